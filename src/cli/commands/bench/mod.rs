@@ -1,0 +1,36 @@
+//! `blockworld bench ...`: benchmarks that print a table (speed targets live here, never in
+//! timed unit tests).
+
+mod accuracy;
+mod generate;
+mod render;
+mod vision;
+
+/// Options of `blockworld bench`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    which: Which,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Which {
+    /// ms per view (render + readback) for scenes of 1, 10 and 50 blocks.
+    Render(render::Args),
+    /// scenes/s of dataset generation and its time split.
+    Generate(generate::Args),
+    /// Per-family accuracy of reconstructions against the accuracy suite.
+    Accuracy(accuracy::Args),
+    /// Vision front end against ground truth: precision, recall, code accuracy, ms per step.
+    Vision(vision::Args),
+}
+
+/// Runs one benchmark.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    match args.which {
+        Which::Render(a) => render::run(a),
+        Which::Generate(a) => generate::run(a),
+        Which::Accuracy(a) => accuracy::run(a),
+        Which::Vision(a) => vision::run(a),
+    }
+}

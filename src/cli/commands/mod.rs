@@ -1,0 +1,11 @@
+//! One file per subcommand: clap `Args` plus `run`.
+
+pub mod bench;
+pub mod demo;
+pub mod edges;
+pub mod generate;
+pub mod merge;
+pub mod render;
+pub mod score;
+pub mod settle;
+pub mod vertices;

@@ -1,0 +1,72 @@
+//! The command line (clap derive): parse, then run one subcommand. The only module that reads
+//! argv or the environment (`SLURM_ARRAY_TASK_ID`, `JOB_COMPLETION_INDEX`).
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+
+/// blockworld: render, simulate and recognize Fischer-Technik block scenes (a modified Kanade
+/// model for three-dimensional object recognition).
+#[derive(Debug, Parser)]
+#[command(name = "blockworld", version, about, long_about = None)]
+pub struct Cli {
+    /// Log more (-v info, -vv debug).
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    pub verbose: u8,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the whole pipeline that exists so far on scenes/thesis_sample.json.
+    Demo(commands::demo::Args),
+    /// Render the four corner views of a scene and their ground truth.
+    Render(commands::render::Args),
+    /// Settle a scene with rapier3d and report whether it rests stably.
+    Settle(commands::settle::Args),
+    /// Generate a synthetic dataset of settled, rendered scenes.
+    Generate(commands::generate::Args),
+    /// Join shard manifests of a dataset and check nothing is missing or doubled.
+    Merge(commands::merge::Args),
+    /// Score a reconstruction against ground truth (parry3d volume overlap).
+    Score(commands::score::Args),
+    /// Sobel edge detection with 3x3 smoothing and a threshold (thesis Ch. II, VI).
+    Edges(commands::edges::Args),
+    /// Lines, vertices and six-bit codes of a view (thesis Ch. IV, V).
+    Vertices(commands::vertices::Args),
+    /// Benchmarks that print tables.
+    Bench(commands::bench::Args),
+}
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    init_tracing(cli.verbose);
+    match cli.command {
+        Command::Demo(a) => commands::demo::run(a),
+        Command::Render(a) => commands::render::run(a),
+        Command::Settle(a) => commands::settle::run(a),
+        Command::Generate(a) => commands::generate::run(a),
+        Command::Merge(a) => commands::merge::run(a),
+        Command::Score(a) => commands::score::run(a),
+        Command::Edges(a) => commands::edges::run(a),
+        Command::Vertices(a) => commands::vertices::run(a),
+        Command::Bench(a) => commands::bench::run(a),
+    }
+}
+
+fn init_tracing(verbose: u8) {
+    let level = match verbose {
+        0 => "warn",
+        1 => "info",
+        _ => "debug",
+    };
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level));
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_ansi(false)
+        .try_init();
+}

@@ -1,0 +1,1 @@
+//! Synthetic datasets (issue #3): families, shards, manifest, resume, merge.

@@ -1,0 +1,21 @@
+//! # blockworld
+//!
+//! A rendering-and-simulation testbed for three-dimensional block recognition, built around the
+//! thesis "A Modified Kanade Model for Three-Dimensional Object Recognition" (the seed). Data
+//! flows one way, following the thesis's flow chart (Figure 5.3):
+//!
+//! `scene` → `physics` (rapier3d settling) → `render` (wgpu views + exact ground truth) →
+//! `vision` (Sobel, least-squares lines, six-bit codes) → `recognize` → `csg` → `score`
+//! (parry3d volume overlap). `dataset` produces synthetic datasets at scale; `cli` is the
+//! command line. Conventions (units, axes, picture coordinates) live in [`geom`].
+
+pub mod cli;
+pub mod dataset;
+pub mod drawing;
+pub mod geom;
+pub mod io;
+pub mod physics;
+pub mod render;
+pub mod scene;
+pub mod score;
+pub mod vision;

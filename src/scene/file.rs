@@ -1,0 +1,204 @@
+//! The scene file (issue #2 contract): JSON with `name`, `blocks` and optional `expect`;
+//! reconstruction files add `status`, `reason` and `csg`; generated files add `meta`.
+//! Unknown fields are errors that name the field.
+
+use super::{block_type, Block, Expect, Orientation, ReconStatus, Scene, SceneError, CATALOG};
+use crate::geom::DVec3;
+use glam::DQuat;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    name: String,
+    blocks: Vec<BlockEntry>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    expect: Option<Expect>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    status: Option<ReconStatus>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    reason: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    csg: Option<serde_json::Value>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    meta: Option<serde_json::Map<String, serde_json::Value>>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BlockEntry {
+    #[serde(rename = "type")]
+    type_id: String,
+    center: [f64; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    yaw_deg: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    rotation: Option<[f64; 4]>,
+}
+
+/// Parses and validates a scene from JSON text; `source_name` (usually the path) names the
+/// input in every error.
+pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
+    let file: SceneFile = serde_json::from_str(text).map_err(|e| SceneError::Format {
+        source_name: source_name.to_string(),
+        message: e.to_string(),
+    })?;
+    let blocks = file
+        .blocks
+        .iter()
+        .enumerate()
+        .map(|(index, entry)| block_from_entry(entry, index, source_name))
+        .collect::<Result<Vec<_>, _>>()?;
+    let scene = Scene {
+        name: file.name,
+        blocks,
+        expect: file.expect,
+        status: file.status,
+        reason: file.reason,
+        csg: file.csg,
+        meta: file.meta,
+    };
+    scene.validate(source_name)?;
+    Ok(scene)
+}
+
+fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Block, SceneError> {
+    let block_type = block_type(&entry.type_id).ok_or_else(|| SceneError::UnknownBlockType {
+        source_name: source.to_string(),
+        index,
+        type_id: entry.type_id.clone(),
+        known: CATALOG.iter().map(|t| t.id).collect::<Vec<_>>().join(", "),
+    })?;
+    let bad = |message: &str| SceneError::BadRotation {
+        source_name: source.to_string(),
+        index,
+        message: message.to_string(),
+    };
+    let orientation = match (entry.yaw_deg, entry.rotation) {
+        (Some(_), Some(_)) => return Err(bad("give either yaw_deg or rotation, not both")),
+        (yaw, None) => Orientation::YawDeg(yaw.unwrap_or(0.0)),
+        (None, Some(r)) => {
+            let q = DQuat::from_array(r);
+            let len = q.length();
+            if !len.is_finite() {
+                return Err(SceneError::NotFinite {
+                    source_name: source.to_string(),
+                    index,
+                });
+            }
+            if (len - 1.0).abs() > 1e-3 {
+                return Err(bad(&format!(
+                    "rotation [x, y, z, w] must be a unit quaternion (length {len:.6})"
+                )));
+            }
+            Orientation::Quaternion(q.normalize())
+        }
+    };
+    Ok(Block {
+        block_type,
+        center_mm: DVec3::from_array(entry.center),
+        orientation,
+    })
+}
+
+/// Serializes a scene as pretty JSON (one stable field order; the same scene gives the same
+/// bytes).
+pub fn scene_to_json(scene: &Scene) -> String {
+    let file = SceneFile {
+        name: scene.name.clone(),
+        blocks: scene
+            .blocks
+            .iter()
+            .map(|b| {
+                let (yaw_deg, rotation) = match b.orientation {
+                    Orientation::YawDeg(d) => (Some(d), None),
+                    Orientation::Quaternion(q) => (None, Some(q.to_array())),
+                };
+                BlockEntry {
+                    type_id: b.block_type.id.to_string(),
+                    center: b.center_mm.to_array(),
+                    yaw_deg,
+                    rotation,
+                }
+            })
+            .collect(),
+        expect: scene.expect.clone(),
+        status: scene.status,
+        reason: scene.reason.clone(),
+        csg: scene.csg.clone(),
+        meta: scene.meta.clone(),
+    };
+    let mut s = serde_json::to_string_pretty(&file).expect("scene serializes");
+    s.push('\n');
+    s
+}
+
+/// Reads, parses and validates a scene file.
+pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_scene(&text, &path.display().to_string())
+}
+
+/// Writes a scene file atomically (temporary name, then rename).
+pub fn write_scene(path: &Path, scene: &Scene) -> Result<(), SceneError> {
+    crate::io::write_atomic(path, scene_to_json(scene).as_bytes()).map_err(|source| {
+        SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TWO_LAYER: &str = r#"{"name": "two_layer",
+        "blocks": [{"type": "b30", "center": [0, 7.5, 0], "yaw_deg": 0},
+                   {"type": "b15", "center": [0, 22.5, 0]}],
+        "expect": {"supported": true}}"#;
+
+    #[test]
+    fn issue_example_parses_and_round_trips() {
+        let s = parse_scene(TWO_LAYER, "two_layer.json").unwrap();
+        assert_eq!(s.blocks.len(), 2);
+        assert_eq!(s.blocks[1].block_type.id, "b15");
+        assert!(s.is_supported());
+        let again = parse_scene(&scene_to_json(&s), "again").unwrap();
+        assert_eq!(again, s);
+    }
+
+    #[test]
+    fn unknown_field_is_named() {
+        let text = TWO_LAYER.replace("\"yaw_deg\"", "\"yaw\"");
+        let err = parse_scene(&text, "x.json").unwrap_err().to_string();
+        assert!(
+            err.contains("x.json") && err.contains("unknown field `yaw`"),
+            "{err}"
+        );
+        let text = TWO_LAYER.replace("\"expect\"", "\"expected\"");
+        let err = parse_scene(&text, "x.json").unwrap_err().to_string();
+        assert!(err.contains("unknown field `expected`"), "{err}");
+    }
+
+    #[test]
+    fn unknown_type_and_bad_rotation_name_the_block() {
+        let err = parse_scene(&TWO_LAYER.replace("b15", "b45"), "x.json").unwrap_err();
+        assert!(
+            matches!(err, SceneError::UnknownBlockType { index: 1, .. }),
+            "{err}"
+        );
+        let text = TWO_LAYER.replace("\"yaw_deg\": 0", "\"rotation\": [0, 0, 0, 2]");
+        let err = parse_scene(&text, "x.json").unwrap_err();
+        assert!(
+            matches!(err, SceneError::BadRotation { index: 0, .. }),
+            "{err}"
+        );
+        let err = parse_scene(&TWO_LAYER.replace("22.5", "1e999"), "x.json").unwrap_err();
+        assert!(err.to_string().contains("x.json"), "{err}");
+    }
+}

@@ -1,0 +1,231 @@
+//! The scene model: Fischer-Technik blocks resting on the floor (Chapter VI, Figure 6.1), the
+//! scene-file format that every later stage reads, and its validation.
+//!
+//! A [`Scene`] is plain data. `scene::file` reads and writes it as JSON (the contract of
+//! issue #2, documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
+//! blocks that overlap or sink below the floor, NaN poses.
+
+mod catalog;
+mod error;
+mod file;
+mod sat;
+
+pub use catalog::{block_type, BlockType, CATALOG};
+pub use error::SceneError;
+pub use file::{parse_scene, read_scene, scene_to_json, write_scene};
+
+use crate::geom::{DVec3, CONTACT_TOL_MM};
+use glam::DQuat;
+use serde::{Deserialize, Serialize};
+
+/// How a block's orientation was given in its scene file; kept so a file round-trips as written.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Orientation {
+    /// Rotation about +y in degrees (`"yaw_deg"`, default 0).
+    YawDeg(f64),
+    /// A unit quaternion `[x, y, z, w]` (`"rotation"`; settled scenes carry it).
+    Quaternion(DQuat),
+}
+
+impl Orientation {
+    /// The orientation as a unit quaternion.
+    pub fn quat(&self) -> DQuat {
+        match *self {
+            Orientation::YawDeg(deg) => DQuat::from_rotation_y(deg.to_radians()),
+            Orientation::Quaternion(q) => q,
+        }
+    }
+}
+
+/// One block placed in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Block {
+    /// Its catalog entry.
+    pub block_type: &'static BlockType,
+    /// Centre of its bounding box in world mm.
+    pub center_mm: DVec3,
+    /// Its orientation.
+    pub orientation: Orientation,
+}
+
+impl Block {
+    /// A block of catalog type `id` at `center_mm` turned `yaw_deg` about +y.
+    /// Panics on an unknown id: for tests and generators that use catalog ids only.
+    pub fn new(id: &str, center_mm: DVec3, yaw_deg: f64) -> Block {
+        Block {
+            block_type: block_type(id).unwrap_or_else(|| panic!("unknown block type {id}")),
+            center_mm,
+            orientation: Orientation::YawDeg(yaw_deg),
+        }
+    }
+
+    /// The block's rotation as a unit quaternion.
+    pub fn rotation(&self) -> DQuat {
+        self.orientation.quat()
+    }
+
+    /// World position of local point `p_mm`.
+    pub fn world_point(&self, p_mm: DVec3) -> DVec3 {
+        self.center_mm + self.rotation() * p_mm
+    }
+
+    /// The polyhedron's vertices in world mm, in catalog order.
+    pub fn world_vertices(&self) -> Vec<DVec3> {
+        let q = self.rotation();
+        self.block_type
+            .vertices()
+            .map(|v| self.center_mm + q * v)
+            .collect()
+    }
+
+    /// Outward unit normal of face `f` in world coordinates.
+    pub fn world_face_normal(&self, f: usize) -> DVec3 {
+        self.rotation() * self.block_type.face_normal(f)
+    }
+
+    /// Volume in mm^3.
+    pub fn volume_mm3(&self) -> f64 {
+        self.block_type.volume_mm3()
+    }
+}
+
+/// What the thesis's method is expected to do with a scene (Chapter VII constraints).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expect {
+    /// `false` marks a scene the method is known not to cover.
+    pub supported: bool,
+    /// Why not, in the thesis's words where it has them (Ch. VII, Figure 7.2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// A reconstruction's verdict on a scene (issue #4: reconstruction files add `status`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReconStatus {
+    /// The recognizer produced blocks.
+    Ok,
+    /// The recognizer declined the scene (with a `reason`).
+    Unsupported,
+}
+
+/// A scene: blocks on the floor plus optional expectation and reconstruction metadata.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// A short name (`"two_layer"`).
+    pub name: String,
+    /// The blocks, in file order; their index + 1 is the id in `ids_<view>.png`.
+    pub blocks: Vec<Block>,
+    /// Whether the thesis's method covers the scene.
+    pub expect: Option<Expect>,
+    /// Set on reconstruction files only.
+    pub status: Option<ReconStatus>,
+    /// Why a reconstruction is `unsupported`, or other remarks.
+    pub reason: Option<String>,
+    /// A reconstruction's CSG tree (Chapter IV, Figure 4.6), kept as written.
+    pub csg: Option<serde_json::Value>,
+    /// Free-form provenance (generator family, seed, settling report), kept as written.
+    pub meta: Option<serde_json::Map<String, serde_json::Value>>,
+}
+
+impl Scene {
+    /// A scene with the given name and blocks and no metadata.
+    pub fn new(name: impl Into<String>, blocks: Vec<Block>) -> Scene {
+        Scene {
+            name: name.into(),
+            blocks,
+            expect: None,
+            status: None,
+            reason: None,
+            csg: None,
+            meta: None,
+        }
+    }
+
+    /// `true` unless `expect.supported` is `false`.
+    pub fn is_supported(&self) -> bool {
+        self.expect.as_ref().is_none_or(|e| e.supported)
+    }
+
+    /// World-space axis-aligned bounds (min, max) of all blocks, in mm; `None` when empty.
+    pub fn bounds_mm(&self) -> Option<(DVec3, DVec3)> {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .fold(None, |acc, v| match acc {
+                None => Some((v, v)),
+                Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+            })
+    }
+
+    /// Checks that every block is finite, rests on or above the floor and overlaps no other
+    /// block by more than [`CONTACT_TOL_MM`]. `source` names the file in error messages.
+    pub fn validate(&self, source: &str) -> Result<(), SceneError> {
+        for (index, b) in self.blocks.iter().enumerate() {
+            let q = b.rotation();
+            let finite = b.center_mm.is_finite() && q.is_finite();
+            if !finite {
+                return Err(SceneError::NotFinite {
+                    source_name: source.to_string(),
+                    index,
+                });
+            }
+            let lowest = b
+                .world_vertices()
+                .iter()
+                .map(|v| v.y)
+                .fold(f64::INFINITY, f64::min);
+            if lowest < -CONTACT_TOL_MM {
+                return Err(SceneError::BelowFloor {
+                    source_name: source.to_string(),
+                    index,
+                    depth_mm: -lowest,
+                });
+            }
+        }
+        for a in 0..self.blocks.len() {
+            for b in a + 1..self.blocks.len() {
+                let depth = sat::penetration_depth_mm(&self.blocks[a], &self.blocks[b]);
+                if depth > CONTACT_TOL_MM {
+                    return Err(SceneError::Overlap {
+                        source_name: source.to_string(),
+                        a,
+                        b,
+                        depth_mm: depth,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_layer_stack_is_valid_and_overlap_is_caught() {
+        let ok = Scene::new(
+            "t",
+            vec![
+                Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+                Block::new("b15", DVec3::new(0.0, 22.5, 0.0), 0.0),
+            ],
+        );
+        ok.validate("t").unwrap();
+        let mut bad = ok.clone();
+        bad.blocks[1].center_mm.y = 20.0;
+        match bad.validate("t") {
+            Err(SceneError::Overlap { a: 0, b: 1, .. }) => {}
+            other => panic!("expected overlap, got {other:?}"),
+        }
+        let mut sunk = ok;
+        sunk.blocks[0].center_mm.y = 7.0;
+        assert!(matches!(
+            sunk.validate("t"),
+            Err(SceneError::BelowFloor { index: 0, .. })
+        ));
+    }
+}
