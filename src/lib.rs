@@ -14,6 +14,7 @@ pub mod dataset;
 pub mod drawing;
 pub mod geom;
 pub mod io;
+pub mod output;
 pub mod physics;
 pub mod render;
 pub mod scene;
