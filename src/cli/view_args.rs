@@ -1,0 +1,124 @@
+//! Render options shared by every command that renders (`render`, `demo`, `generate`,
+//! `bench ...`), flattened into their clap `Args`.
+
+use crate::geom::ISOMETRIC_ELEVATION_DEG;
+use crate::render::{Backend, CameraOptions, CornerView, Projection, RenderOptions};
+use anyhow::{bail, Context};
+
+/// How views are rendered (issue #2 "Renderer").
+#[derive(Debug, Clone, clap::Args)]
+pub struct ViewArgs {
+    /// Views to render, comma separated (ne, se, sw, nw).
+    #[arg(long, default_value = "ne,se,sw,nw", value_delimiter = ',')]
+    pub views: Vec<String>,
+    /// Picture size in pixels, WxH (the thesis's digitizer is 512x480).
+    #[arg(long, default_value = "512x480")]
+    pub size: String,
+    /// Camera elevation above the floor in degrees (default: exact isometric, 35.26439).
+    #[arg(long)]
+    pub elevation: Option<f64>,
+    /// orthographic (default) or perspective.
+    #[arg(long, default_value = "orthographic")]
+    pub projection: String,
+    /// Vertical field of view in degrees for --projection perspective.
+    #[arg(long, default_value_t = 30.0)]
+    pub fov: f64,
+    /// Vertical/horizontal pixel size ratio (1.173913 is the thesis's CCD).
+    #[arg(long, default_value_t = 1.0)]
+    pub pixel_aspect: f64,
+    /// Multisample anti-aliasing: 1 (exact gray levels) or 4.
+    #[arg(long, default_value_t = 1)]
+    pub msaa: u32,
+    /// Gaussian sensor noise, standard deviation in gray levels.
+    #[arg(long, default_value_t = 0.0)]
+    pub noise: f64,
+    /// Seed of the sensor noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
+    #[arg(long, default_value = "vulkan")]
+    pub backend: String,
+}
+
+impl ViewArgs {
+    /// The corner views asked for.
+    pub fn corner_views(&self) -> anyhow::Result<Vec<CornerView>> {
+        self.views
+            .iter()
+            .filter(|v| !v.trim().is_empty())
+            .map(|v| {
+                CornerView::parse(v)
+                    .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
+            })
+            .collect()
+    }
+
+    /// The backend asked for.
+    pub fn backend(&self) -> anyhow::Result<Backend> {
+        match self.backend.to_ascii_lowercase().as_str() {
+            "vulkan" | "vk" => Ok(Backend::Vulkan),
+            "gl" | "gles" => Ok(Backend::Gl),
+            other => bail!("--backend: unknown backend {other:?}; use vulkan or gl"),
+        }
+    }
+
+    /// Checked render options.
+    pub fn render_options(&self) -> anyhow::Result<RenderOptions> {
+        let (w, h) = self
+            .size
+            .split_once(['x', 'X'])
+            .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)))
+            .with_context(|| {
+                format!("--size: expected WxH such as 512x480, got {:?}", self.size)
+            })?;
+        if !(8..=8192).contains(&w) || !(8..=8192).contains(&h) {
+            bail!("--size: {w}x{h} is out of range; each side must be 8..=8192 pixels");
+        }
+        let projection = match self.projection.to_ascii_lowercase().as_str() {
+            "orthographic" | "ortho" => Projection::Orthographic,
+            "perspective" => {
+                if !(1.0..=170.0).contains(&self.fov) {
+                    bail!("--fov: {} is out of range; use 1..=170 degrees", self.fov);
+                }
+                Projection::Perspective {
+                    fov_y_deg: self.fov,
+                }
+            }
+            other => bail!("--projection: unknown {other:?}; use orthographic or perspective"),
+        };
+        let elevation_deg = self.elevation.unwrap_or(ISOMETRIC_ELEVATION_DEG);
+        if !(1.0..=89.0).contains(&elevation_deg) {
+            bail!("--elevation: {elevation_deg} is out of range; use 1..=89 degrees");
+        }
+        if !(0.1..=10.0).contains(&self.pixel_aspect) {
+            bail!(
+                "--pixel-aspect: {} is out of range; use 0.1..=10",
+                self.pixel_aspect
+            );
+        }
+        if self.msaa != 1 && self.msaa != 4 {
+            bail!(
+                "--msaa: {} is not supported; lavapipe offers 1 or 4",
+                self.msaa
+            );
+        }
+        if !(0.0..=128.0).contains(&self.noise) {
+            bail!(
+                "--noise: {} is out of range; use 0..=128 gray levels",
+                self.noise
+            );
+        }
+        Ok(RenderOptions {
+            camera: CameraOptions {
+                size_px: [w, h],
+                elevation_deg,
+                projection,
+                pixel_aspect: self.pixel_aspect,
+                ..CameraOptions::default()
+            },
+            msaa: self.msaa,
+            noise_sigma: self.noise,
+            seed: self.seed,
+        })
+    }
+}
