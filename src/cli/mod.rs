@@ -41,6 +41,22 @@ pub enum Command {
     Bench(commands::bench::Args),
 }
 
+/// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
+/// on error (clap reports usage errors itself, also with 2).
+pub fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err}");
+            for cause in err.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            std::process::ExitCode::from(2)
+        }
+    }
+}
+
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     init_tracing(cli.verbose);

@@ -1,0 +1,163 @@
+//! The crate's architecture as a test (style guide §3): data flows one way through the stages,
+//! and each external crate lives in one stage. Scans `use crate::...` / `crate::...` paths in
+//! each module's source files.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// Stage -> the crate modules it may use. A stage not listed here fails the test, so a new
+/// stage must declare its place in the flow.
+const ALLOWED: &[(&str, &[&str])] = &[
+    ("geom", &[]),
+    ("io", &[]),
+    ("drawing", &["geom"]),
+    ("scene", &["geom", "io"]),
+    ("physics", &["scene", "geom"]),
+    ("render", &["scene", "drawing", "geom"]),
+    ("output", &["render", "drawing", "io", "geom"]),
+    ("vision", &["drawing", "render", "geom"]),
+    ("score", &["scene", "drawing", "geom"]),
+    (
+        "dataset",
+        &[
+            "scene", "physics", "render", "output", "drawing", "io", "geom",
+        ],
+    ),
+    ("recognize", &["drawing", "render", "scene", "geom"]),
+    ("csg", &["recognize", "scene", "geom"]),
+    ("kanade", &["drawing", "geom"]),
+    ("view", &["scene", "geom"]),
+    ("export", &["scene", "drawing", "geom", "io"]),
+    ("cli", &["*"]),
+];
+
+/// External crate -> the only stages (path prefixes under src/) that may name it.
+const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
+    ("wgpu", &["render/gpu"]),
+    ("rapier3d", &["physics"]),
+    ("parry3d", &["score"]),
+    ("clap", &["cli"]),
+    ("gltf", &["export"]),
+    ("indicatif", &["cli", "dataset"]),
+];
+
+fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+fn crate_modules_used(text: &str) -> BTreeSet<String> {
+    let mut used = BTreeSet::new();
+    for (i, _) in text.match_indices("crate::") {
+        let rest = &text[i + "crate::".len()..];
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        if !name.is_empty() {
+            used.insert(name);
+        }
+    }
+    // `use crate::{a, b::c}` groups.
+    for (i, _) in text.match_indices("crate::{") {
+        let rest = &text[i + "crate::{".len()..];
+        let group = &rest[..rest.find('}').unwrap_or(0)];
+        for item in group.split(',') {
+            let name: String = item
+                .trim()
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() {
+                used.insert(name);
+            }
+        }
+    }
+    used
+}
+
+fn stage_of(src: &Path, file: &Path) -> String {
+    let rel = file.strip_prefix(src).unwrap();
+    let first = rel
+        .components()
+        .next()
+        .unwrap()
+        .as_os_str()
+        .to_string_lossy();
+    first.trim_end_matches(".rs").to_string()
+}
+
+#[test]
+fn stages_import_only_upstream() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut violations = Vec::new();
+    for f in &files {
+        let stage = stage_of(&src, f);
+        if stage == "lib" || stage == "main" {
+            continue;
+        }
+        let Some((_, allowed)) = ALLOWED.iter().find(|(s, _)| *s == stage) else {
+            violations.push(format!(
+                "{}: stage {stage:?} is not in ALLOWED",
+                f.display()
+            ));
+            continue;
+        };
+        if allowed.contains(&"*") {
+            continue;
+        }
+        let text = std::fs::read_to_string(f).unwrap();
+        for used in crate_modules_used(&text) {
+            if used != stage && !allowed.contains(&used.as_str()) {
+                violations.push(format!("{}: {stage} uses crate::{used}", f.display()));
+            }
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "layering violations:\n{}",
+        violations.join("\n")
+    );
+}
+
+#[test]
+fn external_crates_live_in_one_stage() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut violations = Vec::new();
+    for f in &files {
+        let rel = f.strip_prefix(&src).unwrap().to_string_lossy().to_string();
+        let text = std::fs::read_to_string(f).unwrap();
+        for (krate, homes) in EXTERNAL_HOMES {
+            let named =
+                text.contains(&format!("{krate}::")) || text.contains(&format!("use {krate}"));
+            if named && !homes.iter().any(|h| rel.starts_with(h)) {
+                violations.push(format!("{rel} names {krate} (allowed only in {homes:?})"));
+            }
+        }
+    }
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
+
+#[test]
+fn the_scanner_sees_groups_and_paths() {
+    let used = crate_modules_used(
+        "use crate::{geom::DVec3, scene::Scene};\nlet x = crate::io::write_atomic;",
+    );
+    assert_eq!(
+        used.into_iter().collect::<Vec<_>>(),
+        vec!["geom".to_string(), "io".to_string(), "scene".to_string()]
+    );
+}
