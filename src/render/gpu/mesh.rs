@@ -78,12 +78,11 @@ pub fn face_gray_level(normal: DVec3, albedo: f64, camera: &Camera) -> u8 {
         .clamp(0.0, 255.0) as u8
 }
 
-/// Triangles of every block of `scene` and of the floor, as seen by `camera` (the light follows
+/// Triangles of every block of `scene` and then of the floor, as seen by `camera` (the light follows
 /// the camera). The floor is a square at y = 0 centred under the camera target, as wide as the
 /// far clip distance, so it fills every picture down to the far plane or the horizon.
 pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, TooManyEdges> {
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 36);
-    push_floor(&mut out, camera);
     for (index, block) in scene.blocks.iter().enumerate() {
         let world = block.world_vertices();
         for (f, face) in block.block_type.faces.iter().enumerate() {
@@ -100,6 +99,8 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
             push_face(&mut out, &corners, normal, level, index as u32 + 1);
         }
     }
+    // The floor last: the depth test then rejects its fragments behind blocks before shading.
+    push_floor(&mut out, camera);
     Ok(out)
 }
 
@@ -201,9 +202,9 @@ mod tests {
             &CameraOptions::default(),
         );
         let v = scene_vertices(&scene, &cam).unwrap();
-        assert_eq!(v.len(), 6 + 12 * 3);
-        assert!(v[..6].iter().all(|v| v.block_id == 0));
-        for t in v[6..].chunks(3) {
+        assert_eq!(v.len(), 12 * 3 + 6);
+        assert!(v[36..].iter().all(|v| v.block_id == 0));
+        for t in v[..36].chunks(3) {
             // Every triangle vertex is a polygon corner: it lies on two edge lines (distance 0)
             // and 15 mm from the opposite ones.
             for p in t {

@@ -472,11 +472,14 @@ fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
         let mut out = Vec::with_capacity(w * h);
         for r in 0..h {
             let start = offset as usize + r * l.truth_row as usize;
-            out.extend(
-                bytes[start..start + 2 * w]
-                    .chunks_exact(2)
-                    .map(|c| u16::from_ne_bytes([c[0], c[1]])),
-            );
+            let row = &bytes[start..start + 2 * w];
+            match bytemuck::try_cast_slice::<u8, u16>(row) {
+                Ok(values) => out.extend_from_slice(values),
+                Err(_) => out.extend(
+                    row.chunks_exact(2)
+                        .map(|c| u16::from_ne_bytes([c[0], c[1]])),
+                ),
+            }
         }
         out
     };
