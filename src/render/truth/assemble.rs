@@ -3,7 +3,7 @@
 //! ends on its interior, which makes the thesis's collinear "T" junctions (Chapter V,
 //! Figure 5.1).
 
-use super::classify::Piece;
+use super::classify::{join_pieces, reclassify, Piece};
 use super::geometry::{Projector, SceneGeometry};
 use super::TruthTolerances;
 use crate::drawing::{EdgeRef, LineDrawing};
@@ -72,13 +72,22 @@ pub(super) fn assemble_drawing(
     tol: &TruthTolerances,
 ) -> LineDrawing {
     let snap_px = tol.merge_px.max(tol.seam_mm * geo.px_per_mm);
-    let mut segs: Vec<Seg> = pieces
+    let mut segs: Vec<Seg> = pieces.into_iter().map(|p| Seg::new(geo, p)).collect();
+    remove_coincident(geo, &mut segs, snap_px, tol);
+    // Slivers go first, so that the pieces on either side of one can join across it.
+    segs.retain(|s| s.length_px() > snap_px);
+    segs.sort_by(|a, b| {
+        (a.piece.edge.cmp(&b.piece.edge)).then(a.piece.t[0].total_cmp(&b.piece.t[0]))
+    });
+    let gap_t = |edge: usize| {
+        let e = &geo.edges[edge];
+        snap_px / e.pa.distance(e.pb).max(1e-12)
+    };
+    let pieces: Vec<Piece> = segs.iter().map(|s| s.piece).collect();
+    let segs: Vec<Seg> = join_pieces(pieces, gap_t)
         .into_iter()
         .map(|p| Seg::new(geo, p))
-        .filter(|s| s.length_px() > snap_px)
         .collect();
-    remove_coincident(geo, &mut segs, snap_px, tol);
-    segs.retain(|s| s.length_px() > snap_px);
     let (points, ends) = merge_ends(&segs, snap_px);
     build_lines(geo, &segs, &points, &ends, snap_px)
 }
@@ -118,7 +127,12 @@ fn remove_coincident(
                 if v1 < 1.0 {
                     rest.push(loser.sub(geo, v1.max(0.0), 1.0));
                 }
-                rest.retain(|s| s.length_px() > snap_px);
+                // A trimmed piece may have lost the stretch its kind was read on: read it again.
+                let rest: Vec<Seg> = rest
+                    .into_iter()
+                    .filter(|s| s.length_px() > snap_px)
+                    .filter_map(|s| reclassify(geo, &s.piece, tol).map(|p| Seg { piece: p, ..s }))
+                    .collect();
                 changed = true;
                 segs.remove(loser_index);
                 segs.extend(rest);
@@ -255,8 +269,7 @@ fn build_lines(
                 continue;
             }
             let along = (*q - q0).dot(dir);
-            if along > snap_px && along < len - snap_px && dir.perp_dot(*q - q0).abs() <= snap_px
-            {
+            if along > snap_px && along < len - snap_px && dir.perp_dot(*q - q0).abs() <= snap_px {
                 cuts.push((along, k));
             }
         }

@@ -41,7 +41,8 @@ struct Class {
     score: u8,
 }
 
-/// Cuts, classifies and re-joins the visible intervals of every edge.
+/// Cuts and classifies the visible intervals of every edge (pieces stay cut, so that a piece
+/// trimmed later can be classified again on what is left of it; see [`join_pieces`]).
 pub(super) fn classify_pieces(
     geo: &SceneGeometry,
     intervals: &[EdgeIntervals],
@@ -55,10 +56,20 @@ pub(super) fn classify_pieces(
         cuts.sort_by(f64::total_cmp);
         for &[t0, t1] in &ei.intervals {
             let mut start = t0;
-            let inner = cuts.iter().copied().filter(|&c| c > t0 + 1e-9 && c < t1 - 1e-9);
+            let inner = cuts
+                .iter()
+                .copied()
+                .filter(|&c| c > t0 + 1e-9 && c < t1 - 1e-9);
             for end in inner.chain(std::iter::once(t1)) {
-                if let Some(class) = classify(geo, ei.edge, [start, end], tol) {
-                    push_joined(&mut out, ei.edge, [start, end], class);
+                if let Some(c) = classify(geo, ei.edge, [start, end], tol) {
+                    out.push(Piece {
+                        edge: ei.edge,
+                        t: [start, end],
+                        kind: c.kind,
+                        other_block: c.other_block,
+                        contact: c.contact,
+                        score: c.score,
+                    });
                 }
                 start = end;
             }
@@ -67,29 +78,26 @@ pub(super) fn classify_pieces(
     out
 }
 
-/// Appends a piece, joining it to the previous one when it continues the same edge with the
-/// same classification.
-fn push_joined(out: &mut Vec<Piece>, edge: usize, t: [f64; 2], c: Class) {
-    if let Some(last) = out.last_mut() {
-        let same = last.edge == edge
-            && (last.t[1] - t[0]).abs() < 1e-12
-            && last.kind == c.kind
-            && last.other_block == c.other_block
-            && last.contact == c.contact;
-        if same {
-            last.t[1] = t[1];
-            last.score = last.score.max(c.score);
-            return;
+/// Joins consecutive pieces of the same edge with the same classification whose parameters
+/// are at most `gap_t(edge)` apart (`pieces` sorted by edge and parameter).
+pub(super) fn join_pieces(pieces: Vec<Piece>, gap_t: impl Fn(usize) -> f64) -> Vec<Piece> {
+    let mut out: Vec<Piece> = Vec::with_capacity(pieces.len());
+    for p in pieces {
+        if let Some(last) = out.last_mut() {
+            let same = last.edge == p.edge
+                && (p.t[0] - last.t[1]).abs() <= gap_t(p.edge).max(1e-9)
+                && last.kind == p.kind
+                && last.other_block == p.other_block
+                && last.contact == p.contact;
+            if same {
+                last.t[1] = p.t[1];
+                last.score = last.score.max(p.score);
+                continue;
+            }
         }
+        out.push(p);
     }
-    out.push(Piece {
-        edge,
-        t,
-        kind: c.kind,
-        other_block: c.other_block,
-        contact: c.contact,
-        score: c.score,
-    });
+    out
 }
 
 /// Edge parameters where another block's edge or vertex touches edge `ei` (within `seam_mm`).
@@ -140,6 +148,23 @@ fn closest_params(p1: DVec3, d1: DVec3, p2: DVec3, d2: DVec3) -> (f64, f64) {
         t = ((b - c) / a).clamp(0.0, 1.0);
     }
     (t, u)
+}
+
+/// Classifies the piece `t` of edge `ei` by looking beside its midpoint; `None` when nothing
+/// changes across it (no line).
+pub(super) fn reclassify(
+    geo: &SceneGeometry,
+    piece: &Piece,
+    tol: &TruthTolerances,
+) -> Option<Piece> {
+    classify(geo, piece.edge, piece.t, tol).map(|c| Piece {
+        edge: piece.edge,
+        t: piece.t,
+        kind: c.kind,
+        other_block: c.other_block,
+        contact: c.contact,
+        score: c.score,
+    })
 }
 
 /// Classifies the piece `t` of edge `ei` by looking beside its midpoint.

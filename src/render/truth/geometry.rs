@@ -214,8 +214,7 @@ impl SceneGeometry {
         let mut faces = Vec::new();
         let mut edges = Vec::new();
         let mut blocks = Vec::new();
-        let mut edge_cache: Vec<(*const BlockType, Vec<(usize, usize, usize, usize)>)> =
-            Vec::new();
+        let mut edge_cache: Vec<(*const BlockType, Vec<(usize, usize, usize, usize)>)> = Vec::new();
         for (bi, block) in scene.blocks.iter().enumerate() {
             let bt = block.block_type;
             let verts = block.world_vertices();
@@ -225,7 +224,9 @@ impl SceneGeometry {
                 let p0 = verts[face[0] as usize];
                 let front = proj.faces_eye(normal, p0);
                 let mut poly: Vec<DVec2> = if front {
-                    face.iter().map(|&v| proj.picture(verts[v as usize])).collect()
+                    face.iter()
+                        .map(|&v| proj.picture(verts[v as usize]))
+                        .collect()
                 } else {
                     Vec::new()
                 };

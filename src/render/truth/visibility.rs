@@ -148,8 +148,7 @@ mod tests {
         let on = clip_segment_to_polygon(DVec2::new(0.2, 0.0), DVec2::new(0.8, 0.0), &sq, 1e-9);
         assert_eq!(on, Some([0.0, 1.0]));
         assert!(
-            clip_segment_to_polygon(DVec2::new(2.0, 2.0), DVec2::new(3.0, 2.0), &sq, 0.0)
-                .is_none()
+            clip_segment_to_polygon(DVec2::new(2.0, 2.0), DVec2::new(3.0, 2.0), &sq, 0.0).is_none()
         );
     }
 
