@@ -214,6 +214,7 @@ impl Gpu {
             .lock()
             .map_err(|_| RenderError::Gpu("renderer state poisoned by an earlier panic".into()))?;
         let state = &mut *state;
+        let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let vertex_bytes: &[u8] = bytemuck::cast_slice(vertices);
@@ -228,7 +229,13 @@ impl Gpu {
         self.encode_passes(&mut encoder, targets, vbuf, vertices.len() as u32);
         encode_readback(&mut encoder, targets);
         self.queue.submit([encoder.finish()]);
+        let submitted = started.elapsed();
         let result = self.read_back(targets);
+        tracing::debug!(
+            submit_ms = submitted.as_secs_f64() * 1e3,
+            total_ms = started.elapsed().as_secs_f64() * 1e3,
+            "gpu draw + readback"
+        );
         let oom_error = pollster::block_on(oom.pop());
         let validation_error = pollster::block_on(scope.pop());
         if let Some(e) = validation_error.or(oom_error) {

@@ -56,6 +56,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     let setup = start.elapsed();
     println!("adapter: {}", renderer.adapter_info());
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        println!(
+            "load average (1, 5, 15 min) at start: {}",
+            load.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    }
     println!(
         "device setup (instance + adapter + device + pipelines): {:.1} ms",
         ms(setup)
