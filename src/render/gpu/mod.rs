@@ -567,7 +567,11 @@ fn create_pipeline(
         0 => Float32x3,
         1 => Float32x4,
         2 => Float32x4,
-        3 => Uint32x2,
+        3 => Float32x4,
+        4 => Float32x4,
+        5 => Float32x4,
+        6 => Float32x4,
+        7 => Uint32x2,
     ];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(fragment_entry),

@@ -70,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ms(setup)
     );
     println!(
-        "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (median / mean ms per view)",
+        "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (each cell: median / mean wall ms / CPU ms per view)",
         opts.camera.size_px[0], opts.camera.size_px[1], opts.msaa
     );
     println!("| blocks | render + readback | + line drawing | render + readback + 3 PNG encodes |");
@@ -113,16 +113,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Median and mean of per-view durations.
+/// Median and mean wall time per view, and the process's CPU time per view (all threads,
+/// lavapipe's rasterizer threads included).
 struct Timing {
     median: Duration,
     mean: Duration,
+    cpu: Option<Duration>,
 }
 
 impl Timing {
     fn show(&self) -> String {
-        format!("{:.3} / {:.3}", ms(self.median), ms(self.mean))
+        let cpu = self
+            .cpu
+            .map(|c| format!("{:.2}", ms(c)))
+            .unwrap_or_else(|| "?".into());
+        format!("{:.3} / {:.3} / {cpu}", ms(self.median), ms(self.mean))
     }
+}
+
+/// User + system CPU time of this process so far, from `/proc/self/stat` (Linux; clock ticks of
+/// 10 ms, the kernel's USER_HZ = 100 on this machine kind).
+fn process_cpu_time() -> Option<Duration> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name in parentheses; utime and stime are fields 14 and 15.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    Some(Duration::from_millis(ticks * 10))
 }
 
 fn time_views(
@@ -130,16 +147,21 @@ fn time_views(
     mut f: impl FnMut(CornerView) -> Result<(), crate::render::RenderError>,
 ) -> anyhow::Result<Timing> {
     let mut times = Vec::with_capacity(iterations);
+    let cpu_start = process_cpu_time();
     for k in 0..iterations {
         let t = Instant::now();
         f(CornerView::ALL[k % 4])?;
         times.push(t.elapsed());
     }
+    let cpu = process_cpu_time()
+        .zip(cpu_start)
+        .map(|(end, start)| end.saturating_sub(start) / iterations as u32);
     let mean = times.iter().sum::<Duration>() / times.len() as u32;
     times.sort();
     Ok(Timing {
         median: times[times.len() / 2],
         mean,
+        cpu,
     })
 }
 
