@@ -155,7 +155,7 @@ pub fn edge_lines_px(corners: &[DVec3], camera: &Camera) -> [[f32; 3]; MAX_FACE_
         .collect();
     if projected
         .iter()
-        .any(|p| !(p.z > camera.near_far_mm[0]) || !p.is_finite())
+        .any(|p| !p.is_finite() || p.z <= camera.near_far_mm[0])
     {
         return lines;
     }
