@@ -183,7 +183,7 @@ impl Gpu {
         })
     }
 
-    /// "name (backend, device type)".
+    /// "name (backend, device type, driver)", for logs and benchmark tables.
     pub fn adapter_info(&self) -> String {
         format!(
             "{} ({:?}, {:?}, driver {} {})",
