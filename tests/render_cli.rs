@@ -189,3 +189,32 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
         assert!(!line.contains(" 0 lines"), "{line}");
     }
 }
+
+#[test]
+fn no_vulkan_driver_gives_the_install_hint_not_a_panic() {
+    // Point the Vulkan loader at a driver list that does not exist: no adapter at all.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let scene = common::root().join("scenes/single_cube.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args([
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .env("VK_ICD_FILENAMES", tmp.path().join("none.json"))
+        .env("VK_DRIVER_FILES", tmp.path().join("none.json"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("mesa-vulkan-drivers")
+            && err.contains("libvulkan1")
+            && err.contains("--backend gl"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
