@@ -16,9 +16,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Largest centre reading error in x and z, mm.
-pub const READING_ERROR_MM: f64 = 0.4;
+pub const READING_ERROR_MM: f64 = 0.02;
 /// Largest yaw reading error, degrees.
-pub const READING_ERROR_DEG: f64 = 1.0;
+pub const READING_ERROR_DEG: f64 = 0.1;
 
 /// Reference reconstructions for a suite of `(id, truth)` pairs, in the same order.
 pub fn make_reference_reconstructions(suite: &[(String, Scene)]) -> Vec<(String, Scene)> {

@@ -150,7 +150,7 @@ fn summarize<'a>(family: &str, rs: impl Iterator<Item = &'a SceneResult>) -> Fam
 pub struct GoldenScene {
     /// Scene id.
     pub id: String,
-    /// Accepted IoU.
+    /// Accepted IoU, rounded to 1e-6.
     pub iou: f64,
     /// Accepted verdict.
     pub verdict: Verdict,
@@ -181,7 +181,7 @@ impl Golden {
             .iter()
             .map(|r| GoldenScene {
                 id: r.id.clone(),
-                iou: r.iou,
+                iou: (r.iou * 1e6).round() / 1e6,
                 verdict: r.verdict,
                 supported: r.supported,
                 flagged: r.flagged,
