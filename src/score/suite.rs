@@ -295,3 +295,42 @@ pub fn check_gate(golden: &Golden, results: &[SceneResult]) -> Vec<GateFailure> 
     }
     failures
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn family_from_meta_or_name() {
+        let mut s = Scene::new("tower_003", vec![]);
+        assert_eq!(scene_family(&s), "tower");
+        s.name = "two_layer-12".into();
+        assert_eq!(scene_family(&s), "two_layer");
+        s.name = "thesis_sample".into();
+        assert_eq!(scene_family(&s), "thesis_sample");
+        let mut meta = serde_json::Map::new();
+        meta.insert("family".into(), "overhang".into());
+        s.meta = Some(meta);
+        assert_eq!(scene_family(&s), "overhang");
+    }
+
+    #[test]
+    fn missing_reconstruction_fails_and_flags_a_failure_case() {
+        let mut truth = Scene::new("yaw_000", vec![]);
+        truth.expect = Some(crate::scene::Expect {
+            supported: false,
+            reason: None,
+        });
+        let r = score_suite_scene(
+            "yaw_000",
+            &truth,
+            Err("no file".into()),
+            &ScoreOptions::default(),
+        );
+        assert_eq!(
+            (r.verdict, r.flagged, r.unexpected_pass),
+            (Verdict::Failed, true, false)
+        );
+        assert_eq!(r.note.as_deref(), Some("no file"));
+    }
+}

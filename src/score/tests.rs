@@ -102,7 +102,7 @@ fn clipper_intersection_mm3(a: &Block, b: &Block) -> f64 {
 }
 
 /// Monte Carlo estimate of vol(a ∩ b) with parry point containment, `samples` uniform points
-/// in a's bounding box.
+/// in the overlap of the two bounding boxes.
 fn monte_carlo_intersection_mm3(a: &Block, b: &Block, samples: usize, seed: u64) -> f64 {
     use parry3d::query::PointQuery;
     let shape = |blk: &Block| {
@@ -120,7 +120,10 @@ fn monte_carlo_intersection_mm3(a: &Block, b: &Block, samples: usize, seed: u64)
             l.x as f32, l.y as f32, l.z as f32,
         ))
     };
-    let (lo, hi) = Scene::new("a", vec![*a]).bounds_mm().unwrap();
+    // Sample the overlap of the two bounding boxes: it holds a ∩ b.
+    let (lo_a, hi_a) = Scene::new("a", vec![*a]).bounds_mm().unwrap();
+    let (lo_b, hi_b) = Scene::new("b", vec![*b]).bounds_mm().unwrap();
+    let (lo, hi) = (lo_a.max(lo_b), hi_a.min(hi_b));
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let hits = (0..samples)
         .filter(|_| {
@@ -163,14 +166,24 @@ fn parry_intersection_mm3(a: &Block, b: &Block) -> f64 {
 
 #[test]
 fn parry_hull_agrees_with_the_f64_clipper_on_random_poses() {
-    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    // Seed 2026, case 334 is a sliver on which parry's quickhull returns a non-convex hull
+    // (7.66 instead of 8.85 mm³); the convexity check must catch it.
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
     let ids = ["b15", "b30", "b7_5"];
     let mut overlapping = 0;
-    for k in 0..300 {
+    for k in 0..2000 {
         let a = random_pose(&mut rng, ids[k % 3], 8.0);
         let b = random_pose(&mut rng, ids[(k / 3) % 3], 8.0);
         let clip = clipper_intersection_mm3(&a, &b);
         let hull = parry_intersection_mm3(&a, &b);
+        let faces = super::polytope::face_route_volume_mm3(
+            &super::polytope::ConvexPolytope::from_block(&a),
+            &super::polytope::ConvexPolytope::from_block(&b),
+        );
+        assert!(
+            (clip - faces).abs() <= 1e-6 * a.volume_mm3(),
+            "case {k}: clipper {clip} faces {faces}"
+        );
         overlapping += usize::from(clip > 1.0);
         assert!(
             (clip - hull).abs() <= 1e-5 * a.volume_mm3().max(b.volume_mm3()),
@@ -178,7 +191,7 @@ fn parry_hull_agrees_with_the_f64_clipper_on_random_poses() {
         );
     }
     assert!(
-        overlapping > 200,
+        overlapping > 1000,
         "the random poses must mostly overlap ({overlapping})"
     );
 }
@@ -194,7 +207,7 @@ fn exact_volume_agrees_with_monte_carlo_within_one_percent() {
         if exact < 0.2 * a.volume_mm3() {
             continue; // a small overlap needs too many samples for a 1% estimate
         }
-        let mc = monte_carlo_intersection_mm3(&a, &b, 400_000, k as u64);
+        let mc = monte_carlo_intersection_mm3(&a, &b, 200_000, k as u64);
         assert!(
             (mc - exact).abs() <= 0.01 * exact,
             "case {k}: exact {exact} Monte Carlo {mc}"
@@ -316,5 +329,147 @@ fn score_reports_matching_layers_and_verdict() {
     assert_eq!(
         score_reconstruction(&truth, &declined).unwrap().verdict,
         Verdict::Unsupported
+    );
+}
+
+/// Monte Carlo IoU of two block sets (parry containment), `samples` points in their joint box.
+fn monte_carlo_iou(truth: &[Block], recon: &[Block], samples: usize, seed: u64) -> f64 {
+    use parry3d::query::PointQuery;
+    let shapes = |blocks: &[Block]| -> Vec<(Block, parry3d::shape::ConvexPolyhedron)> {
+        blocks
+            .iter()
+            .map(|b| {
+                let pts: Vec<parry3d::math::Vector> = b
+                    .block_type
+                    .vertices()
+                    .map(|v| parry3d::math::Vector::new(v.x as f32, v.y as f32, v.z as f32))
+                    .collect();
+                (
+                    *b,
+                    parry3d::shape::ConvexPolyhedron::from_convex_hull(&pts).unwrap(),
+                )
+            })
+            .collect()
+    };
+    let inside = |set: &[(Block, parry3d::shape::ConvexPolyhedron)], p: DVec3| {
+        set.iter().any(|(b, s)| {
+            let l = b.rotation().inverse() * (p - b.center_mm);
+            s.contains_local_point(parry3d::math::Vector::new(
+                l.x as f32, l.y as f32, l.z as f32,
+            ))
+        })
+    };
+    let (st, sr) = (shapes(truth), shapes(recon));
+    let all: Vec<Block> = truth.iter().chain(recon).copied().collect();
+    let (lo, hi) = Scene::new("all", all).bounds_mm().unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut both, mut either) = (0usize, 0usize);
+    for _ in 0..samples {
+        let p = DVec3::new(
+            rng.random_range(lo.x..hi.x),
+            rng.random_range(lo.y..hi.y),
+            rng.random_range(lo.z..hi.z),
+        );
+        let (t, r) = (inside(&st, p), inside(&sr, p));
+        both += usize::from(t && r);
+        either += usize::from(t || r);
+    }
+    both as f64 / either as f64
+}
+
+#[test]
+fn scene_iou_with_self_overlapping_solids_agrees_with_monte_carlo() {
+    // Three truth and three recon blocks in random poses around one point: blocks overlap
+    // inside each solid too, so the inclusion–exclusion terms up to six deep all matter.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let ids = ["b15", "b30", "b7_5"];
+    for k in 0..4 {
+        let truth: Vec<Block> = (0..3)
+            .map(|i| random_pose(&mut rng, ids[(i + k) % 3], 6.0))
+            .collect();
+        let recon: Vec<Block> = (0..3)
+            .map(|i| random_pose(&mut rng, ids[(i + 2 * k) % 3], 6.0))
+            .collect();
+        let exact = volume_iou(
+            &Scene::new("t", truth.clone()),
+            &Scene::new("r", recon.clone()),
+        )
+        .unwrap();
+        let mc = monte_carlo_iou(&truth, &recon, 200_000, k as u64);
+        assert!(exact > 0.1, "case {k}: the solids must overlap ({exact})");
+        assert!(
+            (mc - exact).abs() <= 0.01 * exact,
+            "case {k}: exact {exact} Monte Carlo {mc}"
+        );
+    }
+}
+
+/// Measurement, not a test (run with `--ignored --nocapture`): agreement of the parry hull
+/// route with the f64 clipper and Monte Carlo, and microseconds per pairwise volume.
+#[test]
+#[ignore]
+fn report_pairwise_volume_agreement_and_cost() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let ids = ["b15", "b30", "b7_5"];
+    let pairs: Vec<(Block, Block)> = (0..2000)
+        .map(|k| {
+            (
+                random_pose(&mut rng, ids[k % 3], 8.0),
+                random_pose(&mut rng, ids[(k / 3) % 3], 8.0),
+            )
+        })
+        .collect();
+    let (mut worst_abs, mut worst_rel) = (0.0f64, 0.0f64);
+    for (a, b) in &pairs {
+        let (clip, hull) = (clipper_intersection_mm3(a, b), parry_intersection_mm3(a, b));
+        worst_abs = worst_abs.max((clip - hull).abs());
+        if clip > 1.0 {
+            worst_rel = worst_rel.max((clip - hull).abs() / clip);
+        }
+    }
+    let tol = VolumeTolerances::default();
+    let polys: Vec<_> = pairs
+        .iter()
+        .map(|(a, b)| {
+            (
+                super::polytope::ConvexPolytope::from_block(a),
+                super::polytope::ConvexPolytope::from_block(b),
+            )
+        })
+        .collect();
+    let t0 = std::time::Instant::now();
+    let mut sum = 0.0;
+    for (a, b) in &polys {
+        sum += a.intersect(b, &tol).unwrap().map_or(0.0, |(_, v)| v);
+    }
+    let hull_us = t0.elapsed().as_secs_f64() * 1e6 / polys.len() as f64;
+    let t0 = std::time::Instant::now();
+    let mut sum2 = 0.0;
+    for (a, b) in &pairs {
+        sum2 += clipper_intersection_mm3(a, b);
+    }
+    let clip_us = t0.elapsed().as_secs_f64() * 1e6 / pairs.len() as f64;
+    let rejected = polys
+        .iter()
+        .filter(|(a, b)| super::polytope::parry_hull_accepted(a, b) == Some(false))
+        .count();
+    let hulled = polys
+        .iter()
+        .filter(|(a, b)| super::polytope::parry_hull_accepted(a, b).is_some())
+        .count();
+    println!("parry hull rejected by the convexity check: {rejected} of {hulled} hulls");
+    let mut worst_mc = 0.0f64;
+    for (k, (a, b)) in pairs.iter().take(40).enumerate() {
+        let exact = parry_intersection_mm3(a, b);
+        if exact > 0.2 * a.volume_mm3() {
+            let mc = monte_carlo_intersection_mm3(a, b, 1_000_000, k as u64);
+            worst_mc = worst_mc.max((mc - exact).abs() / exact);
+        }
+    }
+    println!(
+        "{} random pairs: parry hull vs f64 clipper worst |diff| {worst_abs:.2e} mm³, worst relative {worst_rel:.2e}; \
+         Monte Carlo (1e6 samples) worst relative {worst_mc:.4}; parry hull {hull_us:.1} µs/pair, clipper {clip_us:.1} µs/pair \
+         (sums {sum:.1} {sum2:.1})",
+        pairs.len()
     );
 }
