@@ -208,7 +208,7 @@ fn build_world(scene: &Scene, params: &SettleParams) -> Result<SceneWorld, Physi
             return Err(PhysicsError::NotFinite { index });
         }
         let lift_mm = (layers[index] as f64 + 1.0) * params.drop_gap_mm;
-        let body = RigidBodyBuilder::dynamic().position(block_pose_m(block, lift_mm));
+        let body = RigidBodyBuilder::dynamic().pose(block_pose_m(block, lift_mm));
         let collider = block_collider(block, index)?
             .density(params.density_kg_m3 as f32)
             .friction(params.friction as f32);
