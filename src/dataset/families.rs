@@ -493,8 +493,11 @@ fn non_uniform_yaw(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
             .collect::<Option<Vec<_>>>()?;
         Some(blocks)
     } else {
-        // A skewed b15 on top of a b15 or b30: its corners overhang, its centre is supported.
-        let base = pick(rng, &["b15", "b30"]);
+        // A skewed b15 on top of a b30: its corners overhang, its centre is supported.
+        // NOTE: not on a b15. parry 0.31's cuboid-cuboid contact loses a skewed b15 resting
+        // on a b15 of the same footprint (it sinks through; measured at yaws 5-144 degrees),
+        // while on a b30 every yaw settles within 0.02 mm.
+        let base = "b30";
         let mut g = GridBuilder::default();
         g.stack(base, 0, 0, false);
         let mut blocks = g.blocks;

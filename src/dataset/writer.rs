@@ -134,6 +134,7 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
             "floor_contact_mm": s.floor_contact_mm, "density_kg_m3": s.density_kg_m3,
             "friction": s.friction, "length_unit_m": s.length_unit_m,
             "contact_hz": s.contact_hz, "static_contact_hz": s.static_contact_hz,
+            "solver_iterations": s.solver_iterations,
         },
     })
 }

@@ -121,3 +121,15 @@ fn bad_parameters_are_refused() {
         Err(PhysicsError::Params(_))
     ));
 }
+
+
+#[test]
+fn aligned_towers_of_six_stay_up() {
+    for (id, h) in [("b15", 15.0), ("b7_5", 7.5), ("b30", 15.0)] {
+        let blocks = (0..6)
+            .map(|i| Block::new(id, DVec3::new(0.0, h / 2.0 + h * i as f64, 0.0), 0.0))
+            .collect();
+        let s = settle(&Scene::new("tower", blocks), &SettleParams::default()).unwrap();
+        assert!(s.report.stable, "{id}: {:?}", s.report);
+    }
+}
