@@ -322,3 +322,43 @@ fn rendered_shards_merge_and_resume() {
     }
     assert_same_tree(&whole, &sharded);
 }
+
+/// Runs `scripts/slurm_generate.sh` as a real Slurm array job (3 tasks), merges the shards and
+/// compares with an unsharded run. Skipped (loudly) unless a Slurm cluster answers `sinfo`;
+/// `shared/notes/slurm.md` sets one up on a single machine.
+#[test]
+fn a_slurm_array_job_writes_shards_that_merge() {
+    let up = Command::new("sinfo")
+        .arg("-h")
+        .output()
+        .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
+    if !up {
+        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see shared/notes/slurm.md");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (whole, sharded) = (tmp.path().join("whole"), tmp.path().join("sharded"));
+    generate(&whole, 9, &["--views", ""]);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm_generate.sh");
+    let out = Command::new("sbatch")
+        .args(["--wait", "--array=0-2", "--cpus-per-task=1"])
+        .arg(format!("--output={}/task-%a.log", tmp.path().display()))
+        .arg(&script)
+        .arg(&sharded)
+        .args(["9", "7", "--views", ""])
+        .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+        .output()
+        .unwrap();
+    let logs: String = (0..3)
+        .map(|i| std::fs::read_to_string(tmp.path().join(format!("task-{i}.log"))).unwrap_or_default())
+        .collect();
+    assert!(out.status.success(), "sbatch: {}\n{logs}", String::from_utf8_lossy(&out.stderr));
+    for i in 0..3 {
+        assert!(sharded.join(format!("manifest.shard-{i}-of-3.jsonl")).exists(), "{logs}");
+    }
+    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    for i in 0..3 {
+        std::fs::remove_file(sharded.join(format!("manifest.shard-{i}-of-3.jsonl"))).unwrap();
+    }
+    assert_same_tree(&whole, &sharded);
+}

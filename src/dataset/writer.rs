@@ -174,14 +174,23 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let mut text = serde_json::to_string_pretty(&wanted).expect("serializes");
             text.push('\n');
-            write_atomic(&path, text.as_bytes()).map_err(io_err(&path))
+            // Shards start together: another worker (on Kubernetes, another pod whose process
+            // is also PID 1, so the same temporary name) may win the race; its file is ours.
+            write_atomic(&path, text.as_bytes()).or_else(|e| {
+                match std::fs::read_to_string(&path) {
+                    Ok(found) if found == text => Ok(()),
+                    _ => Err(io_err(&path)(e)),
+                }
+            })
         }
         Err(e) => Err(io_err(&path)(e)),
     }
 }
 
-/// Removes temporary files (`.<name>.tmp.<pid>`) an interrupted run left in `dir`.
-fn remove_temporaries(dir: &Path) -> Result<(), DatasetError> {
+/// Removes temporary files (`.<name>.tmp.<pid>`) an interrupted run left in `dir`, for every
+/// name when `only` is `None`, else for that file name only. Call it only on files this run
+/// owns: other shards may be writing beside it.
+fn remove_temporaries(dir: &Path, only: Option<&str>) -> Result<(), DatasetError> {
     let entries = match std::fs::read_dir(dir) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
@@ -189,7 +198,11 @@ fn remove_temporaries(dir: &Path) -> Result<(), DatasetError> {
     };
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
-        if name.starts_with('.') && name.contains(".tmp.") {
+        let is_temp = match only {
+            None => name.starts_with('.') && name.contains(".tmp."),
+            Some(file) => name.starts_with(&format!(".{file}.tmp.")),
+        };
+        if is_temp {
             std::fs::remove_file(entry.path()).map_err(io_err(&entry.path()))?;
         }
     }
@@ -250,7 +263,7 @@ fn produce_scene(
 
     let t = Instant::now();
     std::fs::create_dir_all(&scene_dir).map_err(io_err(&scene_dir))?;
-    remove_temporaries(&scene_dir)?;
+    remove_temporaries(&scene_dir, None)?;
     write_scene(&scene_dir.join(SCENE_FILE), &drawn.scene)?;
     let mut files = BTreeMap::new();
     files.insert(
@@ -300,7 +313,12 @@ pub fn generate_dataset(
         return Err(DatasetError::NoRenderer);
     }
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
-    remove_temporaries(dir)?;
+    let manifest_name = if opts.shard.is_whole() {
+        MANIFEST_NAME.to_string()
+    } else {
+        shard_manifest_name(opts.shard.index, opts.shard.count)
+    };
+    remove_temporaries(dir, Some(&manifest_name))?;
     write_or_check_dataset_json(dir, opts)?;
     let specs: Vec<SceneSpec> = opts
         .shard
@@ -329,11 +347,7 @@ pub fn generate_dataset(
         unstable_draws: 0,
         unplaceable_draws: 0,
         times: StageTimes::default(),
-        manifest: dir.join(if opts.shard.is_whole() {
-            MANIFEST_NAME.to_string()
-        } else {
-            shard_manifest_name(opts.shard.index, opts.shard.count)
-        }),
+        manifest: dir.join(manifest_name),
         entries: Vec::with_capacity(outcomes.len()),
     };
     for o in outcomes {
