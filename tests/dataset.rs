@@ -91,8 +91,12 @@ fn every_family_yields_stable_scenes_with_its_expectation() {
     let mut families = BTreeMap::new();
     for (i, l) in lines.iter().enumerate() {
         assert_eq!(l["id"], format!("s{i:06}"), "scene-id order");
-        *families.entry(l["family"].as_str().unwrap().to_string()).or_insert(0) += 1;
-        let scene = blockworld::scene::read_scene(&ds.join(l["id"].as_str().unwrap()).join("scene.json")).unwrap();
+        *families
+            .entry(l["family"].as_str().unwrap().to_string())
+            .or_insert(0) += 1;
+        let scene =
+            blockworld::scene::read_scene(&ds.join(l["id"].as_str().unwrap()).join("scene.json"))
+                .unwrap();
         assert_eq!(scene.blocks.len() as u64, l["blocks"].as_u64().unwrap());
         let meta = scene.meta.as_ref().unwrap();
         assert_eq!(meta["settle"]["stable"], true, "{}", l["id"]);
@@ -122,7 +126,15 @@ fn the_same_seed_gives_the_same_bytes_whatever_jobs() {
     // A different seed gives a different dataset.
     let c = tmp.path().join("c");
     ok(blockworld(&[
-        "generate", "--count", "16", "--seed", "8", "-o", c.to_str().unwrap(), "--views", "",
+        "generate",
+        "--count",
+        "16",
+        "--seed",
+        "8",
+        "-o",
+        c.to_str().unwrap(),
+        "--views",
+        "",
     ]));
     assert_ne!(
         std::fs::read(a.join("manifest.jsonl")).unwrap(),
@@ -185,7 +197,9 @@ fn shards_from_the_array_job_environment() {
     let ds = tmp.path().join("ds");
     let run = |var: &str, value: &str| {
         Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(["generate", "--count", "5", "--seed", "7", "--views", "", "--shards", "2", "-o"])
+            .args([
+                "generate", "--count", "5", "--seed", "7", "--views", "", "--shards", "2", "-o",
+            ])
             .arg(&ds)
             .env_remove("SLURM_ARRAY_TASK_ID")
             .env_remove("SLURM_ARRAY_TASK_COUNT")
@@ -232,25 +246,44 @@ fn a_run_killed_midway_resumes_to_the_same_bytes() {
         .unwrap();
     let done = |dir: &Path| {
         std::fs::read_dir(dir)
-            .map(|r| r.flatten().filter(|e| e.path().join("done.json").exists()).count())
+            .map(|r| {
+                r.flatten()
+                    .filter(|e| e.path().join("done.json").exists())
+                    .count()
+            })
             .unwrap_or(0)
     };
     while done(&killed) < 20 {
-        assert!(child.try_wait().unwrap().is_none(), "finished before the kill");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "finished before the kill"
+        );
         std::thread::sleep(std::time::Duration::from_millis(2));
     }
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
-    assert!(!killed.join("manifest.jsonl").exists(), "killed before the end");
+    assert!(
+        !killed.join("manifest.jsonl").exists(),
+        "killed before the end"
+    );
     let partial = done(&killed);
     assert!(partial < 250);
     // Damage one finished scene as a full disk would: it must be redone too.
     std::fs::write(killed.join("s000003").join("scene.json"), b"").unwrap();
 
-    let out = ok(Command::new(env!("CARGO_BIN_EXE_blockworld")).args(args(&killed)).output().unwrap());
+    let out = ok(Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args(&killed))
+        .output()
+        .unwrap());
     let kept = partial as u64 - 1;
-    assert!(out.contains(&format!("{kept} kept from an earlier run")), "{out} (partial {partial})");
-    ok(Command::new(env!("CARGO_BIN_EXE_blockworld")).args(args(&clean)).output().unwrap());
+    assert!(
+        out.contains(&format!("{kept} kept from an earlier run")),
+        "{out} (partial {partial})"
+    );
+    ok(Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args(&clean))
+        .output()
+        .unwrap());
     assert_same_tree(&killed, &clean);
 }
 
@@ -260,7 +293,15 @@ fn other_options_in_the_same_directory_are_refused() {
     let ds = tmp.path().join("ds");
     generate(&ds, 3, &["--views", ""]);
     let out = blockworld(&[
-        "generate", "--count", "3", "--seed", "9", "--views", "", "-o", ds.to_str().unwrap(),
+        "generate",
+        "--count",
+        "3",
+        "--seed",
+        "9",
+        "--views",
+        "",
+        "-o",
+        ds.to_str().unwrap(),
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("other options"));
@@ -311,7 +352,11 @@ fn rendered_shards_merge_and_resume() {
     let (whole, sharded) = (tmp.path().join("whole"), tmp.path().join("sharded"));
     generate(&whole, 4, &["--size", "128x120"]);
     for i in 0..2 {
-        generate(&sharded, 4, &["--size", "128x120", "--shard", &format!("{i}/2")]);
+        generate(
+            &sharded,
+            4,
+            &["--size", "128x120", "--shard", &format!("{i}/2")],
+        );
     }
     std::fs::remove_file(sharded.join("s000002").join("view_se.png")).unwrap();
     let out = generate(&sharded, 4, &["--size", "128x120", "--shard", "0/2"]);
@@ -350,11 +395,22 @@ fn a_slurm_array_job_writes_shards_that_merge() {
         .output()
         .unwrap();
     let logs: String = (0..3)
-        .map(|i| std::fs::read_to_string(tmp.path().join(format!("task-{i}.log"))).unwrap_or_default())
+        .map(|i| {
+            std::fs::read_to_string(tmp.path().join(format!("task-{i}.log"))).unwrap_or_default()
+        })
         .collect();
-    assert!(out.status.success(), "sbatch: {}\n{logs}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "sbatch: {}\n{logs}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for i in 0..3 {
-        assert!(sharded.join(format!("manifest.shard-{i}-of-3.jsonl")).exists(), "{logs}");
+        assert!(
+            sharded
+                .join(format!("manifest.shard-{i}-of-3.jsonl"))
+                .exists(),
+            "{logs}"
+        );
     }
     ok(blockworld(&["merge", sharded.to_str().unwrap()]));
     for i in 0..3 {

@@ -37,7 +37,11 @@ fn a_stable_scene_is_written_and_settling_again_changes_nothing() {
     );
     std::fs::write(&input, STABLE).unwrap();
     let out = settle(&input, &once, &[]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let settled = blockworld::scene::read_scene(&once).unwrap();
     let intended = blockworld::scene::read_scene(&input).unwrap();
     for (a, b) in settled.blocks.iter().zip(&intended.blocks) {
@@ -45,10 +49,16 @@ fn a_stable_scene_is_written_and_settling_again_changes_nothing() {
         assert!(a.rotation().angle_between(b.rotation()) < 1e-12);
     }
     let text = std::fs::read_to_string(&once).unwrap();
-    assert!(text.contains("\"rotation\"") && text.contains("\"max_drift_mm\""), "{text}");
+    assert!(
+        text.contains("\"rotation\"") && text.contains("\"max_drift_mm\""),
+        "{text}"
+    );
     let out = settle(&once, &twice, &[]);
     assert!(out.status.success());
-    assert_eq!(std::fs::read(&once).unwrap(), std::fs::read(&twice).unwrap());
+    assert_eq!(
+        std::fs::read(&once).unwrap(),
+        std::fs::read(&twice).unwrap()
+    );
 }
 
 #[test]
@@ -59,12 +69,23 @@ fn an_unstable_scene_fails_names_the_block_and_writes_nothing() {
     let out = settle(&input, &output, &[]);
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("not stable") && err.contains("block 1 (b15): drift"), "{err}");
+    assert!(
+        err.contains("not stable") && err.contains("block 1 (b15): drift"),
+        "{err}"
+    );
     assert!(!output.exists(), "nothing written without --allow-drift");
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temporary left");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temporary left"
+    );
 
     let out = settle(&input, &output, &["--allow-drift"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = std::fs::read_to_string(&output).unwrap();
     let drifted: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(drifted["meta"]["settle"]["stable"], false);
@@ -77,7 +98,11 @@ fn an_unstable_scene_fails_names_the_block_and_writes_nothing() {
 #[test]
 fn a_missing_file_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
-    let out = settle(&dir.path().join("nope.json"), &dir.path().join("o.json"), &[]);
+    let out = settle(
+        &dir.path().join("nope.json"),
+        &dir.path().join("o.json"),
+        &[],
+    );
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("nope.json"));
 }

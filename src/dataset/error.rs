@@ -54,7 +54,9 @@ pub enum DatasetError {
         detail: String,
     },
     /// Views requested but no renderer given.
-    #[error("views were requested but no renderer is available; pass --views \"\" for scene.json only")]
+    #[error(
+        "views were requested but no renderer is available; pass --views \"\" for scene.json only"
+    )]
     NoRenderer,
     /// A manifest line that does not parse.
     #[error("{path}:{line}: {message}", path = path.display())]

@@ -217,7 +217,10 @@ impl GridBuilder {
                 return false;
             }
         }
-        let height = crate::scene::block_type(id).expect("catalog id").size_mm().y;
+        let height = crate::scene::block_type(id)
+            .expect("catalog id")
+            .size_mm()
+            .y;
         let center = DVec3::new(
             (cx as f64 + w as f64 / 2.0) * GRID_MM,
             hi + height / 2.0,
@@ -371,7 +374,11 @@ fn tower(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
     let b30 = rng.random_bool(0.3);
     let turned = rng.random_bool(0.5);
     for _ in 0..n {
-        let id = if b30 { "b30" } else { pick(rng, &["b15", "b7_5"]) };
+        let id = if b30 {
+            "b30"
+        } else {
+            pick(rng, &["b15", "b7_5"])
+        };
         g.stack(id, 0, 0, turned);
     }
     Some(g.blocks)
@@ -384,7 +391,7 @@ fn staircase(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
     let (w, _) = GridBuilder::footprint(id, turned);
     for column in 0..steps {
         for _ in 0..=column {
-            g.stack(id, column as i32 * w, 0, turned);
+            g.stack(id, column * w, 0, turned);
         }
     }
     let (_, hi) = Family::Staircase.block_range();

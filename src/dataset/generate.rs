@@ -103,6 +103,11 @@ pub fn draw_stable_scene(
             source,
         })?;
         if !settled.report.stable {
+            tracing::debug!(
+                "{id}: draw {attempt} of {} is unstable, redrawing:\n{}",
+                spec.family.name(),
+                settled.report.describe_moved(&scene, params)
+            );
             unstable += 1;
             continue;
         }

@@ -79,7 +79,9 @@ pub fn shard_manifest_name(index: u64, count: u64) -> String {
 
 /// Parses a shard manifest name back into (I, N).
 pub fn parse_shard_manifest_name(name: &str) -> Option<(u64, u64)> {
-    let rest = name.strip_prefix("manifest.shard-")?.strip_suffix(".jsonl")?;
+    let rest = name
+        .strip_prefix("manifest.shard-")?
+        .strip_suffix(".jsonl")?;
     let (i, n) = rest.split_once("-of-")?;
     Some((i.parse().ok()?, n.parse().ok()?))
 }
@@ -104,7 +106,10 @@ mod tests {
         let text = e.to_line();
         assert_eq!(text.lines().count(), 1);
         assert_eq!(parse_manifest(&text, Path::new("m")).unwrap(), vec![e]);
-        assert_eq!(parse_shard_manifest_name(&shard_manifest_name(2, 5)), Some((2, 5)));
+        assert_eq!(
+            parse_shard_manifest_name(&shard_manifest_name(2, 5)),
+            Some((2, 5))
+        );
         assert_eq!(parse_shard_manifest_name("manifest.jsonl"), None);
         assert!(parse_manifest("{\"id\": 1}\n", Path::new("m")).is_err());
     }

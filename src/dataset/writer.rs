@@ -144,7 +144,9 @@ fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
         return Err(DatasetError::Options("--count must be at least 1".into()));
     }
     if opts.families.is_empty() {
-        return Err(DatasetError::Options("at least one family is needed".into()));
+        return Err(DatasetError::Options(
+            "at least one family is needed".into(),
+        ));
     }
     Ok(())
 }
@@ -176,11 +178,9 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
             text.push('\n');
             // Shards start together: another worker (on Kubernetes, another pod whose process
             // is also PID 1, so the same temporary name) may win the race; its file is ours.
-            write_atomic(&path, text.as_bytes()).or_else(|e| {
-                match std::fs::read_to_string(&path) {
-                    Ok(found) if found == text => Ok(()),
-                    _ => Err(io_err(&path)(e)),
-                }
+            write_atomic(&path, text.as_bytes()).or_else(|e| match std::fs::read_to_string(&path) {
+                Ok(found) if found == text => Ok(()),
+                _ => Err(io_err(&path)(e)),
             })
         }
         Err(e) => Err(io_err(&path)(e)),
@@ -395,7 +395,10 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
         .ok_or_else(|| merge_err(format!("{DATASET_FILE} has no count")))?;
     let shards = find_shard_manifests(dir)?;
     let n = shards.first().map(|s| s.1).ok_or_else(|| {
-        merge_err("no manifest.shard-I-of-N.jsonl files; run `blockworld generate --shard I/N` first".into())
+        merge_err(
+            "no manifest.shard-I-of-N.jsonl files; run `blockworld generate --shard I/N` first"
+                .into(),
+        )
     })?;
     if let Some(other) = shards.iter().find(|s| s.1 != n) {
         return Err(merge_err(format!(
@@ -472,7 +475,9 @@ fn verify_entry(dir: &Path, e: &ManifestEntry) -> Result<(), DatasetError> {
         if sha256_hex(&bytes) != *sha {
             return Err(DatasetError::Merge {
                 path,
-                message: "sha256 differs from the shard manifest; re-run its shard to regenerate it".into(),
+                message:
+                    "sha256 differs from the shard manifest; re-run its shard to regenerate it"
+                        .into(),
             });
         }
     }

@@ -157,7 +157,9 @@ fn check_params(p: &SettleParams) -> Result<(), PhysicsError> {
         }
     }
     if p.solver_iterations == 0 {
-        return Err(PhysicsError::Params("solver_iterations must be >= 1".into()));
+        return Err(PhysicsError::Params(
+            "solver_iterations must be >= 1".into(),
+        ));
     }
     let non_negative = [
         ("drift_tol_mm", p.drift_tol_mm),
@@ -168,7 +170,9 @@ fn check_params(p: &SettleParams) -> Result<(), PhysicsError> {
     ];
     for (name, v) in non_negative {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(PhysicsError::Params(format!("{name} must be >= 0, got {v}")));
+            return Err(PhysicsError::Params(format!(
+                "{name} must be >= 0, got {v}"
+            )));
         }
     }
     Ok(())
@@ -293,7 +297,11 @@ fn block_collider(
     let t = block.block_type;
     if let Some(h) = t.cuboid_half_extents_mm() {
         let h = (h * M_PER_MM).as_vec3();
-        let h = if swap_xz { Vector::new(h.z, h.y, h.x) } else { h };
+        let h = if swap_xz {
+            Vector::new(h.z, h.y, h.x)
+        } else {
+            h
+        };
         return Ok(ColliderBuilder::cuboid(h.x, h.y, h.z));
     }
     let points: Vec<Vector> = t.vertices().map(|v| (v * M_PER_MM).as_vec3()).collect();

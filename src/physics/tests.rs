@@ -30,7 +30,11 @@ fn a_two_layer_stack_is_stable_and_snapped_back() {
     assert!(s.report.stable, "{:?}", s.report);
     assert!(s.report.asleep);
     // rapier leaves the blocks a little into their supports, but well inside the tolerance.
-    assert!(s.report.max_drift_mm > 0.0 && s.report.max_drift_mm < 0.2, "{:?}", s.report);
+    assert!(
+        s.report.max_drift_mm > 0.0 && s.report.max_drift_mm < 0.2,
+        "{:?}",
+        s.report
+    );
     assert!(s.report.max_turn_deg < 0.1);
     assert!(s.report.blocks[0].touches_floor && !s.report.blocks[1].touches_floor);
     for (a, b) in s.scene.blocks.iter().zip(&two_layer().blocks) {
@@ -47,7 +51,11 @@ fn an_overhanging_block_is_unstable_and_reported() {
     let params = SettleParams::default();
     let s = settle(&overhanging(), &params).unwrap();
     assert!(!s.report.stable);
-    assert!(s.report.moved_blocks(&params).contains(&1), "{:?}", s.report);
+    assert!(
+        s.report.moved_blocks(&params).contains(&1),
+        "{:?}",
+        s.report
+    );
     assert!(s.report.blocks[1].drift_mm > 2.0, "{:?}", s.report);
     assert!(s.report.blocks[1].turn_deg > 10.0, "{:?}", s.report);
     let text = s.report.describe_moved(&s.scene, &params);
@@ -66,7 +74,10 @@ fn a_block_placed_in_the_air_falls_and_touches_the_floor() {
     let s = settle(&scene, &params).unwrap();
     assert!(!s.report.stable);
     let b = s.report.blocks[0];
-    assert!(b.touches_floor && !b.should_touch_floor && b.drift_mm > 19.0, "{b:?}");
+    assert!(
+        b.touches_floor && !b.should_touch_floor && b.drift_mm > 19.0,
+        "{b:?}"
+    );
 }
 
 #[test]
@@ -121,7 +132,6 @@ fn bad_parameters_are_refused() {
         Err(PhysicsError::Params(_))
     ));
 }
-
 
 #[test]
 fn aligned_towers_of_six_stay_up() {

@@ -59,7 +59,10 @@ pub fn parse_families(names: &[String]) -> anyhow::Result<Vec<Family>> {
         .map(|n| {
             Family::parse(n).with_context(|| {
                 let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
-                format!("--family: unknown family {n:?}; known: {}", known.join(", "))
+                format!(
+                    "--family: unknown family {n:?}; known: {}",
+                    known.join(", ")
+                )
             })
         })
         .collect()
@@ -86,7 +89,10 @@ fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
     let index = if let Some(id) = env_u64("SLURM_ARRAY_TASK_ID")? {
         if let Some(count) = env_u64("SLURM_ARRAY_TASK_COUNT")? {
             if count != n {
-                bail!("--shards {n} but SLURM_ARRAY_TASK_COUNT={count}; submit with --array=0-{}", n - 1);
+                bail!(
+                    "--shards {n} but SLURM_ARRAY_TASK_COUNT={count}; submit with --array=0-{}",
+                    n - 1
+                );
             }
         }
         let min = env_u64("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);

@@ -33,8 +33,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         turn_tol_deg: args.turn_tol_deg,
         ..SettleParams::default()
     };
-    let settled = settle(&scene, &params)
-        .with_context(|| format!("settling {}", args.scene.display()))?;
+    let settled =
+        settle(&scene, &params).with_context(|| format!("settling {}", args.scene.display()))?;
     let r = &settled.report;
     let moved = r.describe_moved(&scene, &params);
     if !r.stable && !args.allow_drift {
