@@ -100,7 +100,7 @@ impl Family {
             Family::Staircase => (3, 10),
             Family::Separated => (2, 6),
             Family::RandomStack => (3, 12),
-            Family::UpperLarger => (2, 5),
+            Family::UpperLarger => (2, 6),
             Family::NonUniformYaw => (2, 4),
         }
     }
@@ -560,6 +560,29 @@ mod tests {
                     assert_eq!(c, c.round(), "{}: {:?}", family.name(), b.center_mm);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn failure_families_break_their_constraint() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..20 {
+            let blocks = Family::NonUniformYaw.draw(&mut rng).unwrap();
+            let skewed = blocks.iter().any(|b| match b.orientation {
+                crate::scene::Orientation::YawDeg(d) => d % 90.0 != 0.0,
+                _ => false,
+            });
+            assert!(
+                skewed,
+                "a yaw draw needs a block off the 90-degree directions"
+            );
+            let Some(blocks) = Family::UpperLarger.draw(&mut rng) else {
+                continue;
+            };
+            let raised_b30 = blocks
+                .iter()
+                .any(|b| b.block_type.id == "b30" && b.center_mm.y > 7.5 + 1e-9);
+            assert!(raised_b30, "an upper_larger draw has a b30 above the floor");
         }
     }
 
