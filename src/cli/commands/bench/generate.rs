@@ -56,8 +56,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let busy = (t.settle_s + t.render_s + t.write_s).max(1e-12);
     let n = s.generated.max(1) as f64;
     let [w, h] = opts.render.camera.size_px;
+    let load = std::fs::read_to_string("/proc/loadavg")
+        .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".into());
     println!(
-        "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads{}",
+        "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads, load average {load}{}",
         s.generated,
         opts.views.len(),
         renderer
