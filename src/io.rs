@@ -22,13 +22,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
-/// The temporary name used for `path`: `.<name>.tmp.<pid>` in the same directory.
+/// A temporary name for `path` in the same directory: `.<name>.tmp.<pid>.<random>`. The random
+/// part keeps writers apart that share a process id (every Kubernetes pod runs as PID 1, and
+/// shards on a shared volume write the same names) or a process (threads).
 pub fn temp_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!(".{name}.tmp.{}", std::process::id()))
+    let unique: u64 = rand::random();
+    path.with_file_name(format!(".{name}.tmp.{}.{unique:016x}", std::process::id()))
 }
 
 #[cfg(test)]
@@ -44,5 +47,12 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         let missing = dir.path().join("no/such/dir/a.txt");
         assert!(write_atomic(&missing, b"x").is_err());
+    }
+
+    #[test]
+    fn temporary_names_differ_within_one_process() {
+        let p = Path::new("/x/a.json");
+        assert_ne!(temp_path(p), temp_path(p));
+        assert_eq!(temp_path(p).parent(), p.parent());
     }
 }

@@ -176,8 +176,8 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let mut text = serde_json::to_string_pretty(&wanted).expect("serializes");
             text.push('\n');
-            // Shards start together: another worker (on Kubernetes, another pod whose process
-            // is also PID 1, so the same temporary name) may win the race; its file is ours.
+            // Shards start together: another worker may write the same file first; an identical
+            // file is ours.
             write_atomic(&path, text.as_bytes()).or_else(|e| match std::fs::read_to_string(&path) {
                 Ok(found) if found == text => Ok(()),
                 _ => Err(io_err(&path)(e)),
@@ -187,7 +187,7 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
     }
 }
 
-/// Removes temporary files (`.<name>.tmp.<pid>`) an interrupted run left in `dir`, for every
+/// Removes temporary files (`.<name>.tmp.<pid>.<random>`, see `io::temp_path`) an interrupted run left in `dir`, for every
 /// name when `only` is `None`, else for that file name only. Call it only on files this run
 /// owns: other shards may be writing beside it.
 fn remove_temporaries(dir: &Path, only: Option<&str>) -> Result<(), DatasetError> {
