@@ -1,0 +1,407 @@
+//! Step 2 of the vision front end: straight lines from the binary edge map (Chapter VI,
+//! "Display the Final Sample": "20 to 30 pieces of data of a line are first selected. The Least
+//! Square Fitness Test ... is then applied to the data to obtain the gradient of a line").
+//!
+//! In a 45-degree corner view the edges of blocks resting on the floor run in three picture
+//! directions: vertical, and the projections of the two horizontal world axes (Chapter V: "the
+//! gradients of the left and the right side of a block are constant"). They are computed from
+//! the camera ([`picture_directions`]). Lines are found in three steps:
+//!
+//! 1. **Support**: an edge pixel supports direction `k` when the edge map is set at the pixels
+//!    `1..=reach` steps away on both sides along `k` (a few misses allowed): it lies inside a
+//!    band running that way. This works for a step between two faces and for the renderer's
+//!    dark seams alike, since it only reads the binary map.
+//! 2. **Vote**: a one-dimensional Hough vote per direction over the offset `rho = n . p`; its
+//!    peaks seed infinite lines; the supporting pixels of a peak, ordered along the line, are
+//!    split at gaps into segments.
+//! 3. **Fit**: each segment is fitted by total least squares (orthogonal regression) on all its
+//!    pixels (the thesis used 20-30 samples per line; every supporting pixel is used here),
+//!    giving a sub-pixel line; its extent is that of the supporting pixels.
+//!
+//! Lines in other directions (a block turned about the vertical, a wedge's slope) are not
+//! found: the thesis's method assumes blocks aligned with the views (Ch. VII).
+
+use crate::geom::{DVec2, DVec3};
+use crate::render::Camera;
+use image::GrayImage;
+
+/// Options of the line finder; every length is in picture pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineOptions {
+    /// Pixels checked on each side of an edge pixel along a direction. Default 3.
+    pub reach_px: u32,
+    /// How many of the `2 * reach_px` checked pixels may be missing. Default 1.
+    pub max_misses: u32,
+    /// Pixels within this distance of a vote peak's offset belong to its line. Default 3.0.
+    pub band_half_width_px: f64,
+    /// Two vote peaks of one direction are at least this far apart. Default 3.
+    pub peak_separation_px: u32,
+    /// A segment is split where consecutive supporting pixels are further apart. Default 4.0.
+    pub max_gap_px: f64,
+    /// Shortest segment kept. Default 8.0.
+    pub min_length_px: f64,
+}
+
+impl Default for LineOptions {
+    fn default() -> Self {
+        LineOptions {
+            reach_px: 3,
+            max_misses: 1,
+            band_half_width_px: 3.0,
+            peak_separation_px: 3,
+            max_gap_px: 4.0,
+            min_length_px: 8.0,
+        }
+    }
+}
+
+/// A straight line fitted by least squares to the edge pixels of one segment (Ch. VI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FittedLine {
+    /// Which of the three picture directions seeded it (index into [`picture_directions`]).
+    pub orientation: usize,
+    /// Centroid of the supporting pixels, picture px (x right, y up).
+    pub centroid_px: DVec2,
+    /// Unit direction of the fitted line, picture px.
+    pub direction: DVec2,
+    /// First end: the extreme supporting pixel projected onto the line.
+    pub from_px: DVec2,
+    /// Second end.
+    pub to_px: DVec2,
+    /// Number of supporting pixels.
+    pub support: usize,
+    /// Root mean square orthogonal distance of the pixels from the line, px.
+    pub rms_px: f64,
+}
+
+impl FittedLine {
+    /// Length between the two ends, px.
+    pub fn length_px(&self) -> f64 {
+        self.from_px.distance(self.to_px)
+    }
+
+    /// Signed distance of `p` from the infinite line (positive on the left of `direction`).
+    pub fn signed_distance_px(&self, p: DVec2) -> f64 {
+        self.direction.perp_dot(p - self.centroid_px)
+    }
+
+    /// Position of `p` along the line, measured from the centroid, px.
+    pub fn along_px(&self, p: DVec2) -> f64 {
+        self.direction.dot(p - self.centroid_px)
+    }
+}
+
+/// The three picture directions of block edges in `camera` (unit vectors, picture px, y up):
+/// `[vertical, world x, world z]`, each the projection of a short world step at the scene centre
+/// (`camera.target_mm`) through `picture_from_world`; each is made to point up or right.
+pub fn picture_directions(camera: &Camera) -> [DVec2; 3] {
+    let c = DVec3::from_array(camera.target_mm);
+    let base = camera.picture_from_world(c).truncate();
+    let step_mm = 1.0;
+    let project = |d: DVec3, fallback: DVec2| {
+        let v = camera.picture_from_world(c + d * step_mm).truncate() - base;
+        let v = if v.is_finite() && v.length() > 1e-9 {
+            v.normalize()
+        } else {
+            fallback
+        };
+        if v.y < 0.0 || (v.y == 0.0 && v.x < 0.0) {
+            -v
+        } else {
+            v
+        }
+    };
+    [
+        project(DVec3::Y, DVec2::Y),
+        project(DVec3::X, DVec2::new(0.866, 0.5)),
+        project(DVec3::Z, DVec2::new(-0.866, 0.5)),
+    ]
+}
+
+/// Picture coordinates (px, y up) of the centre of raster pixel `(col, row)` in an image of
+/// `height` rows (README "Picture coordinates": row `r` -> `y = H - r - 0.5`).
+pub fn picture_from_raster(col: u32, row: u32, height: u32) -> DVec2 {
+    DVec2::new(col as f64 + 0.5, height as f64 - row as f64 - 0.5)
+}
+
+/// Total least squares (orthogonal regression) line through `points`: the centroid, the unit
+/// direction of largest spread, and the RMS orthogonal distance. `None` for fewer than two
+/// distinct points. The closed form of the 2x2 covariance's principal axis is used.
+pub fn fit_line_least_squares(points: &[DVec2]) -> Option<(DVec2, DVec2, f64)> {
+    if points.len() < 2 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let c = points.iter().fold(DVec2::ZERO, |a, p| a + *p) / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let d = *p - c;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    if sxx + syy <= 0.0 {
+        return None;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let dir = DVec2::new(angle.cos(), angle.sin());
+    let normal = dir.perp();
+    let ss: f64 = points.iter().map(|p| normal.dot(*p - c).powi(2)).sum();
+    Some((c, dir, (ss / n).sqrt()))
+}
+
+/// One supporting pixel: offset across and position along its direction, and its picture point.
+#[derive(Clone, Copy)]
+struct Vote {
+    rho: f64,
+    t: f64,
+    p: DVec2,
+}
+
+/// Integer raster steps `(dcol, drow)` for `1..=reach` along picture direction `u`.
+fn raster_steps(u: DVec2, reach: u32) -> Vec<(i64, i64)> {
+    (1..=reach as i64)
+        .map(|i| {
+            let f = i as f64;
+            ((u.x * f).round() as i64, (-u.y * f).round() as i64)
+        })
+        .collect()
+}
+
+/// Whether the edge pixel at `(col, row)` lies in a band running along `steps`.
+fn supports(
+    edges: &[u8],
+    w: i64,
+    h: i64,
+    col: i64,
+    row: i64,
+    steps: &[(i64, i64)],
+    max_misses: u32,
+) -> bool {
+    let set =
+        |c: i64, r: i64| c >= 0 && r >= 0 && c < w && r < h && edges[(r * w + c) as usize] != 0;
+    let mut misses = 0;
+    for &(dc, dr) in steps {
+        for s in [1, -1] {
+            if !set(col + s * dc, row + s * dr) {
+                misses += 1;
+                if misses > max_misses {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Finds the straight segments of the binary `edges` map (values 0/1 or 0/255) along the three
+/// `directions` (usually [`picture_directions`]) and fits each by least squares (Ch. VI).
+/// Segments are sorted by direction, then offset, then position; the result is deterministic.
+pub fn fit_lines(
+    edges: &GrayImage,
+    directions: &[DVec2; 3],
+    opts: &LineOptions,
+) -> Vec<FittedLine> {
+    let (w, h) = edges.dimensions();
+    let raw = edges.as_raw();
+    let mut lines = Vec::new();
+    for (k, &u) in directions.iter().enumerate() {
+        if !u.is_finite() || u.length_squared() < 0.5 {
+            continue;
+        }
+        let votes = collect_votes(raw, w, h, u, opts);
+        lines.extend(lines_from_votes(votes, k, u, w, h, opts));
+    }
+    lines
+}
+
+fn collect_votes(raw: &[u8], w: u32, h: u32, u: DVec2, opts: &LineOptions) -> Vec<Vote> {
+    let steps = raster_steps(u, opts.reach_px);
+    let n = u.perp();
+    let mut votes = Vec::new();
+    let (wi, hi) = (i64::from(w), i64::from(h));
+    for row in 0..h {
+        let line = &raw[(row * w) as usize..][..w as usize];
+        for (col, &v) in line.iter().enumerate() {
+            if v == 0 {
+                continue;
+            }
+            let col = col as u32;
+            if supports(
+                raw,
+                wi,
+                hi,
+                i64::from(col),
+                i64::from(row),
+                &steps,
+                opts.max_misses,
+            ) {
+                let p = picture_from_raster(col, row, h);
+                votes.push(Vote {
+                    rho: n.dot(p),
+                    t: u.dot(p),
+                    p,
+                });
+            }
+        }
+    }
+    votes
+}
+
+/// Peaks of the offset histogram (1 px bins, summed over 3 neighbouring bins), with
+/// non-maximum suppression over `peak_separation_px`.
+fn vote_peaks(votes: &[Vote], rho_min: f64, bins: usize, opts: &LineOptions) -> Vec<f64> {
+    let mut hist = vec![0u32; bins];
+    for v in votes {
+        let b = ((v.rho - rho_min).floor() as usize).min(bins - 1);
+        hist[b] += 1;
+    }
+    let boxed: Vec<u32> = (0..bins)
+        .map(|b| hist[b.saturating_sub(1)..(b + 2).min(bins)].iter().sum())
+        .collect();
+    let min_votes = opts.min_length_px.max(1.0) as u32;
+    let sep = opts.peak_separation_px as usize;
+    let mut peaks = Vec::new();
+    for b in 0..bins {
+        let v = boxed[b];
+        if v < min_votes {
+            continue;
+        }
+        let lo = b.saturating_sub(sep);
+        let hi = (b + sep + 1).min(bins);
+        // Strictly greater than earlier neighbours, at least as great as later ones: one peak
+        // per plateau.
+        let is_peak = (lo..b).all(|i| boxed[i] < v) && (b + 1..hi).all(|i| boxed[i] <= v);
+        if is_peak {
+            // Centre of mass of the three bins: the peak offset to a fraction of a pixel.
+            let (mut s, mut m) = (0.0, 0.0);
+            for i in b.saturating_sub(1)..(b + 2).min(bins) {
+                s += f64::from(hist[i]) * (i as f64 + 0.5);
+                m += f64::from(hist[i]);
+            }
+            peaks.push(rho_min + s / m.max(1.0));
+        }
+    }
+    peaks
+}
+
+fn lines_from_votes(
+    votes: Vec<Vote>,
+    k: usize,
+    u: DVec2,
+    w: u32,
+    h: u32,
+    opts: &LineOptions,
+) -> Vec<FittedLine> {
+    if votes.is_empty() {
+        return Vec::new();
+    }
+    let diag = f64::from(w).hypot(f64::from(h));
+    let rho_min = -diag - 2.0;
+    let bins = (2.0 * diag + 4.0).ceil() as usize + 1;
+    let peaks = vote_peaks(&votes, rho_min, bins, opts);
+    if peaks.is_empty() {
+        return Vec::new();
+    }
+    // Each pixel joins its nearest peak within the band.
+    let mut groups: Vec<Vec<Vote>> = vec![Vec::new(); peaks.len()];
+    for v in votes {
+        let i = peaks.partition_point(|&r| r < v.rho);
+        let best = [i.wrapping_sub(1), i]
+            .into_iter()
+            .filter(|&j| j < peaks.len())
+            .min_by(|&a, &b| {
+                (peaks[a] - v.rho)
+                    .abs()
+                    .total_cmp(&(peaks[b] - v.rho).abs())
+            });
+        if let Some(j) = best {
+            if (peaks[j] - v.rho).abs() <= opts.band_half_width_px {
+                groups[j].push(v);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let mut points = Vec::new();
+    for mut g in groups {
+        g.sort_by(|a, b| a.t.total_cmp(&b.t));
+        let mut start = 0;
+        for i in 1..=g.len() {
+            if i == g.len() || g[i].t - g[i - 1].t > opts.max_gap_px {
+                let run = &g[start..i];
+                start = i;
+                if run.is_empty() || run[run.len() - 1].t - run[0].t < opts.min_length_px {
+                    continue;
+                }
+                points.clear();
+                points.extend(run.iter().map(|v| v.p));
+                if let Some(line) = fit_segment(&points, k, u) {
+                    out.push(line);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn fit_segment(points: &[DVec2], k: usize, u: DVec2) -> Option<FittedLine> {
+    let (c, mut dir, rms) = fit_line_least_squares(points)?;
+    if dir.dot(u) < 0.0 {
+        dir = -dir;
+    }
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in points {
+        let t = dir.dot(*p - c);
+        lo = lo.min(t);
+        hi = hi.max(t);
+    }
+    Some(FittedLine {
+        orientation: k,
+        centroid_px: c,
+        direction: dir,
+        from_px: c + dir * lo,
+        to_px: c + dir * hi,
+        support: points.len(),
+        rms_px: rms,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::Luma;
+
+    #[test]
+    fn least_squares_recovers_a_line_to_sub_pixel() {
+        let pts: Vec<DVec2> = (0..25)
+            .map(|i| {
+                DVec2::new(
+                    i as f64,
+                    0.5 * i as f64 + 3.0 + if i % 2 == 0 { 0.1 } else { -0.1 },
+                )
+            })
+            .collect();
+        let (c, d, rms) = fit_line_least_squares(&pts).unwrap();
+        assert!((d.y / d.x - 0.5).abs() < 0.01, "slope {}", d.y / d.x);
+        assert!((c.y - (0.5 * c.x + 3.0)).abs() < 0.05);
+        assert!(rms < 0.11);
+        assert!(fit_line_least_squares(&pts[..1]).is_none());
+        assert!(fit_line_least_squares(&[DVec2::ONE, DVec2::ONE]).is_none());
+    }
+
+    #[test]
+    fn a_vertical_band_gives_one_vertical_line() {
+        // Columns 9..=12 set over rows 5..=40 of a 30 x 50 map.
+        let edges = GrayImage::from_fn(30, 50, |x, y| {
+            Luma([u8::from((9..=12).contains(&x) && (5..=40).contains(&y))])
+        });
+        let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+        let lines = fit_lines(&edges, &dirs, &LineOptions::default());
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        let l = lines[0];
+        assert_eq!(l.orientation, 0);
+        assert!((l.centroid_px.x - 11.0).abs() < 1e-9, "{l:?}");
+        assert!(l.direction.x.abs() < 1e-9);
+        assert!(l.length_px() > 25.0);
+    }
+}
