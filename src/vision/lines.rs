@@ -405,3 +405,161 @@ mod tests {
         assert!(l.length_px() > 25.0);
     }
 }
+
+/// Refines lines that sit on a dark seam (the renderer draws ~1 px dark lines along block
+/// edges): the band of the edge map is lopsided when the faces on the two sides differ in
+/// brightness, so its centre can miss the seam by most of a pixel. For each line, the gray
+/// profile across it (pixels within `band_half_width_px + 1.5` px) is examined; when it has a
+/// valley at least `min_seam_contrast` gray levels below both sides, the line is re-fitted by
+/// least squares on the valley's pixels weighted by their darkness. Lines without a valley
+/// (a plain step between faces, where the band is symmetric) are kept as they are.
+pub fn refine_lines_on_seams(
+    gray: &GrayImage,
+    lines: &[FittedLine],
+    opts: &LineOptions,
+) -> Vec<FittedLine> {
+    let mut samples: Vec<(f64, f64, DVec2)> = Vec::new();
+    let mut pts: Vec<DVec2> = Vec::new();
+    let mut weights: Vec<f64> = Vec::new();
+    lines
+        .iter()
+        .map(|l| {
+            let reach = opts.band_half_width_px + 1.5;
+            band_samples(gray, l, reach, &mut samples);
+            refine_one(l, &samples, reach, &mut pts, &mut weights).unwrap_or(*l)
+        })
+        .collect()
+}
+
+/// Minimum valley depth, gray levels, for [`refine_lines_on_seams`].
+const MIN_SEAM_CONTRAST: f64 = 12.0;
+
+/// Pixels within `reach` px of the line, between its ends: `(offset, gray, point)`.
+fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64, f64, DVec2)>) {
+    out.clear();
+    let (w, h) = gray.dimensions();
+    let raw = gray.as_raw();
+    let (t0, t1) = (l.along_px(l.from_px), l.along_px(l.to_px));
+    let n = l.direction.perp();
+    let steep = l.direction.y.abs() >= l.direction.x.abs();
+    // Walk rows (steep lines) or columns (flat lines) between the ends.
+    let (a, b) = (l.from_px, l.to_px);
+    let (lo, hi) = if steep {
+        (a.y.min(b.y), a.y.max(b.y))
+    } else {
+        (a.x.min(b.x), a.x.max(b.x))
+    };
+    let slope_room = if steep {
+        l.direction.y.abs()
+    } else {
+        l.direction.x.abs()
+    };
+    let half = (reach / slope_room.max(0.3)).ceil() as i64 + 1;
+    let mut s = lo.floor() as i64;
+    while (s as f64) <= hi.ceil() {
+        let s_c = s as f64 + 0.5;
+        // Where the line crosses this row/column.
+        let other = if steep {
+            l.centroid_px.x + (s_c - l.centroid_px.y) * l.direction.x / l.direction.y
+        } else {
+            l.centroid_px.y + (s_c - l.centroid_px.x) * l.direction.y / l.direction.x
+        };
+        let o = other.floor() as i64;
+        for q in o - half..=o + half {
+            let (x, y) = if steep { (q, s) } else { (s, q) };
+            if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
+                continue;
+            }
+            let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+            let t = l.along_px(p);
+            let d = n.dot(p - l.centroid_px);
+            if d.abs() <= reach && t >= t0 && t <= t1 {
+                let row = h as i64 - 1 - y;
+                out.push((d, f64::from(raw[(row * i64::from(w) + x) as usize]), p));
+            }
+        }
+        s += 1;
+    }
+}
+
+fn refine_one(
+    l: &FittedLine,
+    samples: &[(f64, f64, DVec2)],
+    reach: f64,
+    pts: &mut Vec<DVec2>,
+    weights: &mut Vec<f64>,
+) -> Option<FittedLine> {
+    const BIN: f64 = 0.5;
+    let bins = (2.0 * reach / BIN).ceil() as usize + 1;
+    let mut sum = vec![0.0; bins];
+    let mut cnt = vec![0.0; bins];
+    for &(d, g, _) in samples {
+        let b = (((d + reach) / BIN) as usize).min(bins - 1);
+        sum[b] += g;
+        cnt[b] += 1.0;
+    }
+    let mean = |b: usize| (cnt[b] > 0.0).then(|| sum[b] / cnt[b]);
+    let side = |range: std::ops::Range<usize>| {
+        let v: Vec<f64> = range.filter_map(mean).collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    let edge_bins = (1.5 / BIN) as usize;
+    let left = side(0..edge_bins)?;
+    let right = side(bins - edge_bins..bins)?;
+    let (vb, vmin) = (edge_bins..bins - edge_bins)
+        .filter_map(|b| mean(b).map(|m| (b, m)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let floor_level = left.min(right);
+    if floor_level - vmin < MIN_SEAM_CONTRAST {
+        return None;
+    }
+    let d_valley = vb as f64 * BIN - reach + BIN / 2.0;
+    pts.clear();
+    weights.clear();
+    for &(d, g, p) in samples {
+        if (d - d_valley).abs() <= 1.5 && g < floor_level {
+            pts.push(p);
+            weights.push(floor_level - g);
+        }
+    }
+    let (c, mut dir) = fit_line_weighted(pts, weights)?;
+    if dir.dot(l.direction) < 0.0 {
+        dir = -dir;
+    }
+    if dir.dot(l.direction) < 0.99 {
+        return None;
+    }
+    let project = |p: DVec2| c + dir * dir.dot(p - c);
+    Some(FittedLine {
+        centroid_px: c,
+        direction: dir,
+        from_px: project(l.from_px),
+        to_px: project(l.to_px),
+        ..*l
+    })
+}
+
+/// Weighted total least squares: centroid and unit direction.
+fn fit_line_weighted(points: &[DVec2], weights: &[f64]) -> Option<(DVec2, DVec2)> {
+    let wsum: f64 = weights.iter().sum();
+    if points.len() < 2 || wsum <= 0.0 {
+        return None;
+    }
+    let c = points
+        .iter()
+        .zip(weights)
+        .fold(DVec2::ZERO, |a, (p, w)| a + *p * *w)
+        / wsum;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for (p, w) in points.iter().zip(weights) {
+        let d = *p - c;
+        sxx += w * d.x * d.x;
+        sxy += w * d.x * d.y;
+        syy += w * d.y * d.y;
+    }
+    if sxx + syy <= 0.0 {
+        return None;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    Some((c, DVec2::new(angle.cos(), angle.sin())))
+}

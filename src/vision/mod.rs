@@ -31,8 +31,8 @@ pub use eval::{
     VertexMatch,
 };
 pub use lines::{
-    fit_line_least_squares, fit_lines, picture_directions, picture_from_raster, FittedLine,
-    LineOptions,
+    fit_line_least_squares, fit_lines, picture_directions, picture_from_raster,
+    refine_lines_on_seams, FittedLine, LineOptions,
 };
 pub use vertices::{find_vertices, VertexOptions};
 
@@ -116,6 +116,7 @@ pub fn detect_with_directions(
 ) -> Detection {
     let (_, edges) = detect_edges(image, &opts.edges);
     let lines = fit_lines(&edges, directions, &opts.lines);
+    let lines = refine_lines_on_seams(image, &lines, &opts.lines);
     let drawing = find_vertices(&lines, &opts.vertices);
     Detection {
         edges,

@@ -1,0 +1,374 @@
+//! Whole-stage tests of the vision front end (issue #5) on pictures drawn here: boxes are ray
+//! cast through the real `Camera`, each visible face filled with a flat gray level by its
+//! orientation, and the pixels within half a pixel of the visible face's projected edges
+//! darkened (the renderer's ~1 px seams). The true vertices are the projected box corners, known
+//! exactly. These tests need no GPU; `blockworld bench vision` measures on real renders.
+
+use blockworld::drawing::{Junction, LineDrawing};
+use blockworld::geom::{DVec2, DVec3};
+use blockworld::render::{Camera, CameraOptions, CornerView};
+use blockworld::vision::{
+    decode_gray, detect_line_drawing, detect_with_directions, match_vertices, picture_directions,
+    VisionError, VisionOptions,
+};
+use image::{GrayImage, Luma};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+
+/// An axis-aligned box, world mm.
+#[derive(Clone, Copy)]
+struct Aabb {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+fn cube(centre_x: f64, bottom_y: f64, centre_z: f64, side: f64) -> Aabb {
+    let h = side / 2.0;
+    Aabb {
+        lo: DVec3::new(centre_x - h, bottom_y, centre_z - h),
+        hi: DVec3::new(centre_x + h, bottom_y + side, centre_z + h),
+    }
+}
+
+impl Aabb {
+    fn corners(&self) -> Vec<DVec3> {
+        (0..8)
+            .map(|i| {
+                DVec3::new(
+                    if i & 4 != 0 { self.hi.x } else { self.lo.x },
+                    if i & 2 != 0 { self.hi.y } else { self.lo.y },
+                    if i & 1 != 0 { self.hi.z } else { self.lo.z },
+                )
+            })
+            .collect()
+    }
+
+    /// Ray-box intersection (slabs): entry distance and the axis of the entry face.
+    fn hit(&self, o: DVec3, d: DVec3) -> Option<(f64, usize, f64)> {
+        let (mut t0, mut t1, mut axis, mut sign) = (f64::NEG_INFINITY, f64::INFINITY, 0, 0.0);
+        for a in 0..3 {
+            let (oa, da, lo, hi) = (o[a], d[a], self.lo[a], self.hi[a]);
+            if da.abs() < 1e-12 {
+                if oa < lo || oa > hi {
+                    return None;
+                }
+                continue;
+            }
+            let (mut n, mut f) = ((lo - oa) / da, (hi - oa) / da);
+            let mut s = -1.0;
+            if n > f {
+                std::mem::swap(&mut n, &mut f);
+                s = 1.0;
+            }
+            if n > t0 {
+                t0 = n;
+                axis = a;
+                sign = s;
+            }
+            t1 = t1.min(f);
+        }
+        (t0 <= t1 && t1 > 0.0).then_some((t0, axis, sign))
+    }
+
+    /// The four corners of the face on `axis` at side `sign`, in order around the face.
+    fn face(&self, axis: usize, sign: f64) -> [DVec3; 4] {
+        let v = if sign > 0.0 {
+            self.hi[axis]
+        } else {
+            self.lo[axis]
+        };
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        let at = |ua: f64, ub: f64| {
+            let mut p = DVec3::ZERO;
+            p[axis] = v;
+            p[a] = ua;
+            p[b] = ub;
+            p
+        };
+        [
+            at(self.lo[a], self.lo[b]),
+            at(self.hi[a], self.lo[b]),
+            at(self.hi[a], self.hi[b]),
+            at(self.lo[a], self.hi[b]),
+        ]
+    }
+}
+
+fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let s = ((p - a).dot(d) / d.length_squared().max(1e-12)).clamp(0.0, 1.0);
+    p.distance(a + d * s)
+}
+
+/// Draws `boxes` as the camera sees them: flat faces (top 200, x faces 140, z faces 90, floor and
+/// background 40) with 1 px dark seams (20) along the visible faces' edges, plus Gaussian noise.
+fn draw(boxes: &[Aabb], camera: &Camera, noise_sigma: f64, seed: u64) -> GrayImage {
+    let [w, h] = camera.size_px;
+    let proj = |p: DVec3| camera.picture_from_world(p).truncate();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let normal = Normal::new(0.0, noise_sigma.max(1e-9)).unwrap();
+    let all_edges: Vec<(DVec2, DVec2)> = boxes
+        .iter()
+        .flat_map(|b| {
+            let c = b.corners();
+            let mut e = Vec::new();
+            for i in 0..8 {
+                for bit in [1, 2, 4] {
+                    if i & bit == 0 {
+                        e.push((proj(c[i]), proj(c[i | bit])));
+                    }
+                }
+            }
+            e
+        })
+        .collect();
+    GrayImage::from_fn(w, h, |col, row| {
+        let p = DVec2::new(col as f64 + 0.5, h as f64 - row as f64 - 0.5);
+        let (o, d) = camera.ray_through_picture(p.x, p.y);
+        let hit = boxes
+            .iter()
+            .filter_map(|b| b.hit(o, d).map(|x| (x, b)))
+            .min_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+        let mut g = match hit {
+            Some(((_, axis, sign), b)) => {
+                let f = b.face(axis, sign).map(proj);
+                let near = (0..4).any(|i| seg_dist(p, f[i], f[(i + 1) % 4]) <= 0.5);
+                if near {
+                    20.0
+                } else {
+                    [140.0, 200.0, 90.0][axis]
+                }
+            }
+            None => {
+                if all_edges.iter().any(|(a, b)| seg_dist(p, *a, *b) <= 0.5) {
+                    20.0
+                } else {
+                    40.0
+                }
+            }
+        };
+        if noise_sigma > 0.0 {
+            g += normal.sample(&mut rng);
+        }
+        Luma([g.round().clamp(0.0, 255.0) as u8])
+    })
+}
+
+fn camera_for(boxes: &[Aabb], view: CornerView) -> Camera {
+    let pts: Vec<DVec3> = boxes.iter().flat_map(|b| b.corners()).collect();
+    Camera::frame(&pts, view, &CameraOptions::default())
+}
+
+/// The exact drawing of one cube: its corners but the hidden one, its edges not touching it.
+fn cube_truth(b: &Aabb, camera: &Camera) -> LineDrawing {
+    let c = b.corners();
+    let depth = |i: usize| camera.picture_from_world(c[i]).z;
+    let hidden = (0..8)
+        .max_by(|&i, &j| depth(i).total_cmp(&depth(j)))
+        .unwrap();
+    let index = |i: usize| if i < hidden { i } else { i - 1 };
+    let mut d = LineDrawing::default();
+    for (i, p) in c.iter().enumerate() {
+        if i != hidden {
+            d.points.push(camera.picture_from_world(*p).truncate());
+        }
+    }
+    for i in 0..8 {
+        for bit in [1, 2, 4] {
+            if i & bit == 0 && i != hidden && (i | bit) != hidden {
+                d.lines.push([index(i), index(i | bit)]);
+            }
+        }
+    }
+    d.finalize();
+    d
+}
+
+#[test]
+fn one_cube_in_every_view_matches_the_exact_drawing_within_one_pixel() {
+    let b = cube(0.0, 0.0, 0.0, 15.0);
+    for view in CornerView::ALL {
+        let camera = camera_for(&[b], view);
+        let truth = cube_truth(&b, &camera);
+        let mut codes: Vec<u8> = truth.codes.iter().map(|c| c.0).collect();
+        codes.sort();
+        assert_eq!(codes, vec![9, 14, 21, 22, 33, 40, 50], "truth of {view:?}");
+        for (noise, seed) in [(0.0, 0), (8.0, 7)] {
+            let img = draw(&[b], &camera, noise, seed);
+            let det = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap();
+            let m = match_vertices(&det.drawing, &truth);
+            assert_eq!(
+                (m.pairs.len(), m.found, m.truth),
+                (7, 7, 7),
+                "{view:?} noise {noise}: {:?}",
+                det.drawing.points
+            );
+            assert_eq!(
+                m.codes_equal, 7,
+                "{view:?} noise {noise}: codes {:?}",
+                det.drawing.codes
+            );
+            eprintln!("{view:?} noise {noise}: {:?}", m.distances_px);
+            let worst = m.distances_px.iter().cloned().fold(0.0, f64::max);
+            assert!(
+                worst < 1.0,
+                "{view:?} noise {noise}: worst vertex {worst} px"
+            );
+        }
+    }
+}
+
+#[test]
+fn two_cubes_side_by_side_and_stacked_give_ten_points_fourteen_lines_two_ts() {
+    // shared/notes/ground-truth.md: 10 points, 14 lines, 2 T junctions in every view.
+    let side = [cube(-7.5, 0.0, 0.0, 15.0), cube(7.5, 0.0, 0.0, 15.0)];
+    let stacked = [cube(0.0, 0.0, 0.0, 15.0), cube(0.0, 15.0, 0.0, 15.0)];
+    for boxes in [&side[..], &stacked[..]] {
+        for view in CornerView::ALL {
+            let camera = camera_for(boxes, view);
+            let img = draw(boxes, &camera, 0.0, 0);
+            let det = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap();
+            let d = &det.drawing;
+            let ts = d.junctions.iter().filter(|j| **j == Junction::T).count();
+            assert_eq!(
+                (d.points.len(), d.lines.len(), ts),
+                (10, 14, 2),
+                "{view:?}: {d:?}"
+            );
+            // Every projected visible corner is found within 1 px.
+            let corners: Vec<DVec2> = boxes
+                .iter()
+                .flat_map(|b| b.corners())
+                .map(|p| camera.picture_from_world(p).truncate())
+                .collect();
+            for p in &d.points {
+                let nearest = corners
+                    .iter()
+                    .map(|c| c.distance(*p))
+                    .fold(f64::MAX, f64::min);
+                let on_t =
+                    d.junctions[d.points.iter().position(|q| q == p).unwrap()] == Junction::T;
+                assert!(
+                    on_t || nearest < 1.0,
+                    "{view:?}: vertex {p} is {nearest} px from a corner"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn wrong_size_and_huge_pictures_are_clear_errors() {
+    let b = cube(0.0, 0.0, 0.0, 15.0);
+    let camera = camera_for(&[b], CornerView::Ne);
+    let img = GrayImage::new(100, 80);
+    let err = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap_err();
+    assert!(matches!(
+        err,
+        VisionError::SizeMismatch {
+            got_w: 100,
+            got_h: 80,
+            want_w: 512,
+            want_h: 480
+        }
+    ));
+    assert!(err.to_string().contains("512x480"), "{err}");
+    // A PNG header claiming 9000 x 9000 is refused before decoding.
+    let big = png_header_only(9000, 9000);
+    let err = decode_gray(&big).unwrap_err();
+    assert!(matches!(err, VisionError::TooLarge { .. }), "{err}");
+    // A colour PNG is converted and says so.
+    let rgb = image::RgbImage::from_pixel(4, 3, image::Rgb([10, 200, 30]));
+    let mut bytes = Vec::new();
+    image::DynamicImage::ImageRgb8(rgb)
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+    let dec = decode_gray(&bytes).unwrap();
+    assert_eq!(dec.gray.dimensions(), (4, 3));
+    assert_eq!(dec.converted_from.as_deref(), Some("Rgb8"));
+    // Constant and empty pictures give an empty drawing.
+    let flat = GrayImage::from_pixel(512, 480, Luma([90]));
+    let det = detect_line_drawing(&flat, &camera, &VisionOptions::default()).unwrap();
+    assert!(det.drawing.points.is_empty() && det.lines.is_empty());
+}
+
+/// A PNG signature and IHDR chunk for a `w` x `h` 8-bit gray picture, with no pixel data.
+fn png_header_only(w: u32, h: u32) -> Vec<u8> {
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(b"IHDR");
+    ihdr.extend_from_slice(&w.to_be_bytes());
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 0, 0, 0, 0]);
+    let crc = crc32(&ihdr);
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    out.extend_from_slice(&13u32.to_be_bytes());
+    out.extend_from_slice(&ihdr);
+    out.extend_from_slice(&crc.to_be_bytes());
+    for name in [&b"IDAT"[..], &b"IEND"[..]] {
+        out.extend_from_slice(&0u32.to_be_bytes());
+        out.extend_from_slice(name);
+        out.extend_from_slice(&crc32(name).to_be_bytes());
+    }
+    out
+}
+
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xedb8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+/// The fuzz target's entry point (fuzz/fuzz_targets/vision.rs) on a few hundred seeded random
+/// small pictures and byte strings: no panic, and every point lies near the picture.
+#[test]
+fn random_small_pictures_never_panic() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+    for i in 0..400 {
+        let (w, h) = (rng.random_range(0..48u32), rng.random_range(0..48u32));
+        let img = match i % 4 {
+            0 => GrayImage::from_fn(w, h, |_, _| Luma([rng.random()])),
+            1 => GrayImage::from_fn(w, h, |_, _| {
+                Luma([if rng.random_bool(0.5) { 0 } else { 255 }])
+            }),
+            2 => {
+                let (a, b) = (rng.random_range(0..50i64), rng.random_range(-30..30i64));
+                GrayImage::from_fn(w, h, |x, y| {
+                    Luma([if (x as i64 * b / 16 + a) > y as i64 {
+                        200
+                    } else {
+                        30
+                    }])
+                })
+            }
+            _ => GrayImage::from_pixel(w, h, Luma([rng.random()])),
+        };
+        let det = detect_with_directions(&img, &dirs, &VisionOptions::default());
+        for p in &det.drawing.points {
+            assert!(p.is_finite(), "{p}");
+        }
+        assert_eq!(det.drawing.codes.len(), det.drawing.points.len());
+        let bytes: Vec<u8> = (0..rng.random_range(0..64)).map(|_| rng.random()).collect();
+        if let Ok(dec) = decode_gray(&bytes) {
+            detect_with_directions(&dec.gray, &dirs, &VisionOptions::default());
+        }
+    }
+    // Camera-derived directions are unit vectors pointing up or right.
+    let camera = camera_for(&[cube(0.0, 0.0, 0.0, 15.0)], CornerView::Se);
+    for d in picture_directions(&camera) {
+        assert!((d.length() - 1.0).abs() < 1e-9 && (d.y > 0.0 || d.x > 0.0));
+    }
+}
