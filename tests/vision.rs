@@ -372,3 +372,58 @@ fn random_small_pictures_never_panic() {
         assert!((d.length() - 1.0).abs() < 1e-9 && (d.y > 0.0 || d.x > 0.0));
     }
 }
+
+/// Committed fixtures (`tests/fixtures/vision/single_cube/{view,camera,lines}_<v>.png/json`,
+/// drawn by `draw` above; `BLESS=1 cargo test --test vision` rewrites them) read back through the
+/// same files the CLI reads: every true vertex found within 1 px with its code.
+#[test]
+fn committed_fixtures_are_found_exactly() {
+    let dir =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vision/single_cube");
+    let b = cube(0.0, 0.0, 0.0, 15.0);
+    if std::env::var_os("BLESS").is_some() {
+        std::fs::create_dir_all(&dir).unwrap();
+        for view in CornerView::ALL {
+            let camera = camera_for(&[b], view);
+            let img = draw(&[b], &camera, 0.0, 0);
+            img.save(dir.join(format!("view_{}.png", view.name())))
+                .unwrap();
+            std::fs::write(
+                dir.join(format!("camera_{}.json", view.name())),
+                serde_json::to_string_pretty(&camera).unwrap(),
+            )
+            .unwrap();
+            std::fs::write(
+                dir.join(format!("lines_{}.json", view.name())),
+                cube_truth(&b, &camera).to_json(),
+            )
+            .unwrap();
+        }
+    }
+    for view in CornerView::ALL {
+        let read = |name: &str| {
+            std::fs::read(dir.join(format!(
+                "{name}_{}.{}",
+                view.name(),
+                if name == "view" { "png" } else { "json" }
+            )))
+            .unwrap_or_else(|e| {
+                panic!(
+                    "missing fixture {name}_{} in {}: {e}; run `BLESS=1 cargo test --test vision`",
+                    view.name(),
+                    dir.display()
+                )
+            })
+        };
+        let img = decode_gray(&read("view")).unwrap().gray;
+        let camera: Camera = serde_json::from_slice(&read("camera")).unwrap();
+        let truth: LineDrawing = serde_json::from_slice(&read("lines")).unwrap();
+        let det = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap();
+        let m = match_vertices(&det.drawing, &truth);
+        assert_eq!(
+            (m.pairs.len(), m.found, m.truth, m.codes_equal),
+            (7, 7, 7, 7),
+            "{view:?}"
+        );
+    }
+}
