@@ -427,3 +427,66 @@ fn committed_fixtures_are_found_exactly() {
         );
     }
 }
+
+/// The CLI on the committed fixtures: `vertices` writes the JSON of issue #5, `edges` a 0/255
+/// PNG; a picture of the wrong size fails naming the file and both sizes.
+#[test]
+fn cli_vertices_and_edges_on_fixtures() {
+    let exe = env!("CARGO_BIN_EXE_blockworld");
+    let fx =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vision/single_cube");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("v.json");
+    let st = std::process::Command::new(exe)
+        .args(["vertices"])
+        .arg(fx.join("view_ne.png"))
+        .arg("--camera")
+        .arg(fx.join("camera_ne.json"))
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let vs = v["vertices"].as_array().unwrap();
+    assert_eq!(vs.len(), 7);
+    let mut codes: Vec<u64> = vs.iter().map(|x| x["code"].as_u64().unwrap()).collect();
+    codes.sort();
+    assert_eq!(codes, vec![9, 14, 21, 22, 33, 40, 50]);
+    assert!(vs
+        .iter()
+        .all(|x| x["x"].is_f64() && x["junction"].is_string()));
+    assert_eq!(v["lines"].as_array().unwrap().len(), 9);
+
+    let edges = tmp.path().join("e.png");
+    let st = std::process::Command::new(exe)
+        .arg("edges")
+        .arg(fx.join("view_ne.png"))
+        .arg("-o")
+        .arg(&edges)
+        .arg("--threshold")
+        .arg("80")
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let e = image::open(&edges).unwrap().into_luma8();
+    assert!(e.as_raw().iter().all(|&x| x == 0 || x == 255));
+    assert!(e.as_raw().contains(&255));
+
+    let small = tmp.path().join("small.png");
+    GrayImage::new(64, 48).save(&small).unwrap();
+    let o = std::process::Command::new(exe)
+        .arg("vertices")
+        .arg(&small)
+        .arg("--camera")
+        .arg(fx.join("camera_ne.json"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("small.png") && err.contains("64x48") && err.contains("512x480"),
+        "{err}"
+    );
+}

@@ -390,6 +390,22 @@ mod tests {
     }
 
     #[test]
+    fn isometric_views_have_vertical_and_thirty_degree_directions() {
+        use crate::render::{CameraOptions, CornerView};
+        let pts = [DVec3::new(-7.5, 0.0, -7.5), DVec3::new(7.5, 15.0, 7.5)];
+        for view in CornerView::ALL {
+            let cam = Camera::frame(&pts, view, &CameraOptions::default());
+            let [v, a, b] = picture_directions(&cam);
+            assert!(v.distance(DVec2::Y) < 1e-9, "{view:?} {v}");
+            for d in [a, b] {
+                let deg = d.y.atan2(d.x.abs()).to_degrees();
+                assert!((deg - 30.0).abs() < 1e-6, "{view:?} {d} at {deg} degrees");
+            }
+            assert!(a.x * b.x < 0.0, "one leans left, one right");
+        }
+    }
+
+    #[test]
     fn a_vertical_band_gives_one_vertical_line() {
         // Columns 9..=12 set over rows 5..=40 of a 30 x 50 map.
         let edges = GrayImage::from_fn(30, 50, |x, y| {

@@ -6,7 +6,6 @@ use crate::render::Camera;
 use crate::vision::{decode_gray, detect_line_drawing, Detection, EdgeOptions, VisionOptions};
 use anyhow::Context;
 use image::GrayImage;
-use serde_json::json;
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld vertices`.
@@ -50,44 +49,69 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The `vertices` JSON: `{"vertices": [{"x", "y", "code", "junction"}], "lines": [[a, b]],
-/// "fitted": [...]}`; `junction` is the thesis's class ("Y", "T", "L", "other").
+/// One vertex of the `vertices` JSON.
+#[derive(serde::Serialize)]
+struct VertexJson {
+    x: f64,
+    y: f64,
+    code: u8,
+    /// The thesis's class: "Y", "T", "L" or "other".
+    junction: &'static str,
+    /// The finer class (fork, arrow, T, L, end, ...).
+    kind: crate::drawing::Junction,
+}
+
+/// One fitted line of the `vertices` JSON.
+#[derive(serde::Serialize)]
+struct FittedJson {
+    from: [f64; 2],
+    to: [f64; 2],
+    orientation: usize,
+    support: usize,
+    rms_px: f64,
+}
+
+/// The whole `vertices` JSON, fields in this order.
+#[derive(serde::Serialize)]
+struct DetectionJson {
+    vertices: Vec<VertexJson>,
+    lines: Vec<[usize; 2]>,
+    fitted: Vec<FittedJson>,
+}
+
+/// The `vertices` JSON: `{"vertices": [{"x", "y", "code", "junction", "kind"}], "lines":
+/// [[a, b]], "fitted": [...]}` in picture px; `junction` is the thesis's class ("Y", "T", "L",
+/// "other"), `lines` index `vertices`, `fitted` are the least-squares lines before splitting.
 pub fn detection_json(det: &Detection) -> String {
     let d = &det.drawing;
     let round = |v: f64| (v * 1e4).round() / 1e4;
-    let vertices: Vec<_> = d
-        .points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            json!({
-                "x": round(p.x),
-                "y": round(p.y),
-                "code": d.codes[i].0,
-                "junction": d.junctions[i].thesis_class(),
-                "kind": d.junctions[i],
+    let out = DetectionJson {
+        vertices: d
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| VertexJson {
+                x: round(p.x),
+                y: round(p.y),
+                code: d.codes[i].0,
+                junction: d.junctions[i].thesis_class(),
+                kind: d.junctions[i],
             })
-        })
-        .collect();
-    let fitted: Vec<_> = det
-        .lines
-        .iter()
-        .map(|l| {
-            json!({
-                "from": [round(l.from_px.x), round(l.from_px.y)],
-                "to": [round(l.to_px.x), round(l.to_px.y)],
-                "orientation": l.orientation,
-                "support": l.support,
-                "rms_px": round(l.rms_px),
+            .collect(),
+        lines: d.lines.clone(),
+        fitted: det
+            .lines
+            .iter()
+            .map(|l| FittedJson {
+                from: [round(l.from_px.x), round(l.from_px.y)],
+                to: [round(l.to_px.x), round(l.to_px.y)],
+                orientation: l.orientation,
+                support: l.support,
+                rms_px: round(l.rms_px),
             })
-        })
-        .collect();
-    let mut s = serde_json::to_string_pretty(&json!({
-        "vertices": vertices,
-        "lines": d.lines,
-        "fitted": fitted,
-    }))
-    .unwrap_or_default();
+            .collect(),
+    };
+    let mut s = serde_json::to_string_pretty(&out).unwrap_or_default();
     s.push('\n');
     s
 }
@@ -97,7 +121,6 @@ pub fn read_picture(path: &Path) -> anyhow::Result<GrayImage> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let dec = decode_gray(&bytes).with_context(|| format!("{}", path.display()))?;
     if let Some(from) = &dec.converted_from {
-        tracing::warn!("{}: {from} image converted to 8-bit gray", path.display());
         eprintln!(
             "warning: {}: {from} image converted to 8-bit gray",
             path.display()
