@@ -225,9 +225,12 @@ fn two_cubes_side_by_side_and_stacked_give_ten_points_fourteen_lines_two_ts() {
     let side = [cube(-7.5, 0.0, 0.0, 15.0), cube(7.5, 0.0, 0.0, 15.0)];
     let stacked = [cube(0.0, 0.0, 0.0, 15.0), cube(0.0, 15.0, 0.0, 15.0)];
     for boxes in [&side[..], &stacked[..]] {
-        for view in CornerView::ALL {
+        for (view, noise) in CornerView::ALL
+            .into_iter()
+            .flat_map(|v| [(v, 0.0), (v, 8.0)])
+        {
             let camera = camera_for(boxes, view);
-            let img = draw(boxes, &camera, 0.0, 0);
+            let img = draw(boxes, &camera, noise, 3);
             let det = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap();
             let d = &det.drawing;
             let ts = d.junctions.iter().filter(|j| **j == Junction::T).count();
@@ -489,4 +492,64 @@ fn cli_vertices_and_edges_on_fixtures() {
         err.contains("small.png") && err.contains("64x48") && err.contains("512x480"),
         "{err}"
     );
+}
+
+/// A small stack at the scale of a 12-block scene (edges about 60 px long): every vertex found
+/// lies within 1 px of a projected box corner or is a T junction on a drawn line; with and
+/// without noise.
+#[test]
+fn a_small_stack_gives_vertices_on_corners() {
+    let mut boxes = Vec::new();
+    for (x, z) in [
+        (-7.5, -7.5),
+        (7.5, -7.5),
+        (-7.5, 7.5),
+        (7.5, 7.5),
+        (22.5, 7.5),
+        (22.5, -7.5),
+    ] {
+        boxes.push(cube(x, 0.0, z, 15.0));
+    }
+    boxes.push(cube(0.0, 15.0, 0.0, 15.0));
+    boxes.push(cube(15.0, 15.0, 0.0, 15.0));
+    boxes.push(cube(0.0, 30.0, 0.0, 15.0));
+    for view in CornerView::ALL {
+        for noise in [0.0, 8.0] {
+            let camera = camera_for(&boxes, view);
+            let img = draw(&boxes, &camera, noise, 11);
+            if std::env::var_os("VISION_DUMP").is_some() {
+                img.save(format!("/tmp/stack_{}_{noise}.png", view.name()))
+                    .unwrap();
+                std::fs::write(
+                    format!("/tmp/stack_{}_{noise}.json", view.name()),
+                    serde_json::to_string(&camera).unwrap(),
+                )
+                .unwrap();
+            }
+            let det = detect_line_drawing(&img, &camera, &VisionOptions::default()).unwrap();
+            let d = &det.drawing;
+            let corners: Vec<DVec2> = boxes
+                .iter()
+                .flat_map(|b| b.corners())
+                .map(|p| camera.picture_from_world(p).truncate())
+                .collect();
+            let mut off = Vec::new();
+            for (i, p) in d.points.iter().enumerate() {
+                let nearest = corners
+                    .iter()
+                    .map(|c| c.distance(*p))
+                    .fold(f64::MAX, f64::min);
+                if nearest >= 1.0 && d.junctions[i] != Junction::T {
+                    off.push((*p, nearest, d.junctions[i]));
+                }
+            }
+            eprintln!(
+                "{view:?} noise {noise}: {} points, {} lines, {} off corners",
+                d.points.len(),
+                d.lines.len(),
+                off.len()
+            );
+            assert!(off.is_empty(), "{view:?} noise {noise}: {off:?}");
+        }
+    }
 }

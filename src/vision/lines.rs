@@ -40,6 +40,9 @@ pub struct LineOptions {
     pub max_gap_px: f64,
     /// Shortest segment kept. Default 8.0.
     pub min_length_px: f64,
+    /// A fitted segment may turn at most this far from its seed direction, degrees (blobs of
+    /// edge pixels at junctions fit badly). Default 4.0.
+    pub max_turn_deg: f64,
 }
 
 impl Default for LineOptions {
@@ -51,6 +54,7 @@ impl Default for LineOptions {
             peak_separation_px: 3,
             max_gap_px: 4.0,
             min_length_px: 8.0,
+            max_turn_deg: 4.0,
         }
     }
 }
@@ -335,7 +339,7 @@ fn lines_from_votes(
                 }
                 points.clear();
                 points.extend(run.iter().map(|v| v.p));
-                if let Some(line) = fit_segment(&points, k, u) {
+                if let Some(line) = fit_segment(&points, k, u, opts.max_turn_deg) {
                     out.push(line);
                 }
             }
@@ -344,10 +348,13 @@ fn lines_from_votes(
     out
 }
 
-fn fit_segment(points: &[DVec2], k: usize, u: DVec2) -> Option<FittedLine> {
+fn fit_segment(points: &[DVec2], k: usize, u: DVec2, max_turn_deg: f64) -> Option<FittedLine> {
     let (c, mut dir, rms) = fit_line_least_squares(points)?;
     if dir.dot(u) < 0.0 {
         dir = -dir;
+    }
+    if dir.dot(u) < max_turn_deg.to_radians().cos() {
+        return None;
     }
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for p in points {
