@@ -103,12 +103,12 @@ pub fn smooth_3x3(magnitude: &MagnitudeImage, window: SmoothWindow) -> Magnitude
     let mut sums = vec![0u32; wu * 3];
     let row_sums = |y: usize, dst: &mut [u32]| {
         let r = &src[y * wu..][..wu];
-        for x in 0..wu {
+        for (x, d) in dst.iter_mut().enumerate() {
             let (a, b, c) = match window {
                 SmoothWindow::Centred => around(x, wu),
                 SmoothWindow::Trailing => (x.saturating_sub(2), x.saturating_sub(1), x),
             };
-            dst[x] = u32::from(r[a]) + u32::from(r[b]) + u32::from(r[c]);
+            *d = u32::from(r[a]) + u32::from(r[b]) + u32::from(r[c]);
         }
     };
     for y in 0..hu {
@@ -196,8 +196,9 @@ mod tests {
         assert!(e.as_raw().iter().all(|&v| v == 0));
         // A diagonal step: the magnitude is the Euclidean norm of both kernels.
         let diag = GrayImage::from_fn(3, 3, |x, y| Luma([if x + y < 2 { 0 } else { 100 }]));
-        let dx = (100 + 200 + 100) - (0 + 0 + 100);
-        let dy = (0 + 0 + 100) - (100 + 200 + 100);
+        // Right column 100, 100, 100; left column 0, 0, 100; top row 0, 0, 100; bottom 100s.
+        let dx = 400 - 100;
+        let dy = 100 - 400;
         let want = ((dx * dx + dy * dy) as f64).sqrt().round() as u16;
         assert_eq!(sobel_magnitude(&diag).get_pixel(1, 1).0[0], want);
     }

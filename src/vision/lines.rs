@@ -279,9 +279,10 @@ fn vote_peaks(votes: &[Vote], rho_min: f64, bins: usize, opts: &LineOptions) -> 
         if is_peak {
             // Centre of mass of the three bins: the peak offset to a fraction of a pixel.
             let (mut s, mut m) = (0.0, 0.0);
-            for i in b.saturating_sub(1)..(b + 2).min(bins) {
-                s += f64::from(hist[i]) * (i as f64 + 0.5);
-                m += f64::from(hist[i]);
+            let lo = b.saturating_sub(1);
+            for (i, &n) in hist.iter().enumerate().take((b + 2).min(bins)).skip(lo) {
+                s += f64::from(n) * (i as f64 + 0.5);
+                m += f64::from(n);
             }
             peaks.push(rho_min + s / m.max(1.0));
         }
@@ -371,62 +372,6 @@ fn fit_segment(points: &[DVec2], k: usize, u: DVec2, max_turn_deg: f64) -> Optio
         support: points.len(),
         rms_px: rms,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use image::Luma;
-
-    #[test]
-    fn least_squares_recovers_a_line_to_sub_pixel() {
-        let pts: Vec<DVec2> = (0..25)
-            .map(|i| {
-                DVec2::new(
-                    i as f64,
-                    0.5 * i as f64 + 3.0 + if i % 2 == 0 { 0.1 } else { -0.1 },
-                )
-            })
-            .collect();
-        let (c, d, rms) = fit_line_least_squares(&pts).unwrap();
-        assert!((d.y / d.x - 0.5).abs() < 0.01, "slope {}", d.y / d.x);
-        assert!((c.y - (0.5 * c.x + 3.0)).abs() < 0.05);
-        assert!(rms < 0.11);
-        assert!(fit_line_least_squares(&pts[..1]).is_none());
-        assert!(fit_line_least_squares(&[DVec2::ONE, DVec2::ONE]).is_none());
-    }
-
-    #[test]
-    fn isometric_views_have_vertical_and_thirty_degree_directions() {
-        use crate::render::{CameraOptions, CornerView};
-        let pts = [DVec3::new(-7.5, 0.0, -7.5), DVec3::new(7.5, 15.0, 7.5)];
-        for view in CornerView::ALL {
-            let cam = Camera::frame(&pts, view, &CameraOptions::default());
-            let [v, a, b] = picture_directions(&cam);
-            assert!(v.distance(DVec2::Y) < 1e-9, "{view:?} {v}");
-            for d in [a, b] {
-                let deg = d.y.atan2(d.x.abs()).to_degrees();
-                assert!((deg - 30.0).abs() < 1e-6, "{view:?} {d} at {deg} degrees");
-            }
-            assert!(a.x * b.x < 0.0, "one leans left, one right");
-        }
-    }
-
-    #[test]
-    fn a_vertical_band_gives_one_vertical_line() {
-        // Columns 9..=12 set over rows 5..=40 of a 30 x 50 map.
-        let edges = GrayImage::from_fn(30, 50, |x, y| {
-            Luma([u8::from((9..=12).contains(&x) && (5..=40).contains(&y))])
-        });
-        let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
-        let lines = fit_lines(&edges, &dirs, &LineOptions::default());
-        assert_eq!(lines.len(), 1, "{lines:?}");
-        let l = lines[0];
-        assert_eq!(l.orientation, 0);
-        assert!((l.centroid_px.x - 11.0).abs() < 1e-9, "{l:?}");
-        assert!(l.direction.x.abs() < 1e-9);
-        assert!(l.length_px() > 25.0);
-    }
 }
 
 /// Refines lines that sit on a dark seam (the renderer draws ~1 px dark lines along block
@@ -585,4 +530,60 @@ fn fit_line_weighted(points: &[DVec2], weights: &[f64]) -> Option<(DVec2, DVec2)
     }
     let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
     Some((c, DVec2::new(angle.cos(), angle.sin())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::Luma;
+
+    #[test]
+    fn least_squares_recovers_a_line_to_sub_pixel() {
+        let pts: Vec<DVec2> = (0..25)
+            .map(|i| {
+                DVec2::new(
+                    i as f64,
+                    0.5 * i as f64 + 3.0 + if i % 2 == 0 { 0.1 } else { -0.1 },
+                )
+            })
+            .collect();
+        let (c, d, rms) = fit_line_least_squares(&pts).unwrap();
+        assert!((d.y / d.x - 0.5).abs() < 0.01, "slope {}", d.y / d.x);
+        assert!((c.y - (0.5 * c.x + 3.0)).abs() < 0.05);
+        assert!(rms < 0.11);
+        assert!(fit_line_least_squares(&pts[..1]).is_none());
+        assert!(fit_line_least_squares(&[DVec2::ONE, DVec2::ONE]).is_none());
+    }
+
+    #[test]
+    fn isometric_views_have_vertical_and_thirty_degree_directions() {
+        use crate::render::{CameraOptions, CornerView};
+        let pts = [DVec3::new(-7.5, 0.0, -7.5), DVec3::new(7.5, 15.0, 7.5)];
+        for view in CornerView::ALL {
+            let cam = Camera::frame(&pts, view, &CameraOptions::default());
+            let [v, a, b] = picture_directions(&cam);
+            assert!(v.distance(DVec2::Y) < 1e-9, "{view:?} {v}");
+            for d in [a, b] {
+                let deg = d.y.atan2(d.x.abs()).to_degrees();
+                assert!((deg - 30.0).abs() < 1e-6, "{view:?} {d} at {deg} degrees");
+            }
+            assert!(a.x * b.x < 0.0, "one leans left, one right");
+        }
+    }
+
+    #[test]
+    fn a_vertical_band_gives_one_vertical_line() {
+        // Columns 9..=12 set over rows 5..=40 of a 30 x 50 map.
+        let edges = GrayImage::from_fn(30, 50, |x, y| {
+            Luma([u8::from((9..=12).contains(&x) && (5..=40).contains(&y))])
+        });
+        let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+        let lines = fit_lines(&edges, &dirs, &LineOptions::default());
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        let l = lines[0];
+        assert_eq!(l.orientation, 0);
+        assert!((l.centroid_px.x - 11.0).abs() < 1e-9, "{l:?}");
+        assert!(l.direction.x.abs() < 1e-9);
+        assert!(l.length_px() > 25.0);
+    }
 }

@@ -144,19 +144,19 @@ pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing 
     // 3. One vertex per group, at the least-squares point of its lines.
     let mut root_to_vertex: Vec<Option<usize>> = vec![None; cands.len()];
     let mut members: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
-    for ci in 0..cands.len() {
+    for (ci, cand) in cands.iter().enumerate() {
         let r = sets.find(ci);
         let v = *root_to_vertex[r].get_or_insert_with(|| {
             members.push((Vec::new(), Vec::new()));
             members.len() - 1
         });
         let (ls, ps) = &mut members[v];
-        for l in [cands[ci].line, cands[ci].other] {
+        for l in [cand.line, cand.other] {
             if !ls.contains(&l) {
                 ls.push(l);
             }
         }
-        ps.push(cands[ci].p);
+        ps.push(cand.p);
     }
     let mut points: Vec<DVec2> = members
         .iter()
