@@ -1,9 +1,30 @@
 //! Writing rendered views to a directory, the layout `blockworld render` and every dataset
 //! scene share: `view_<v>.png`, `depth_<v>.png`, `ids_<v>.png`, `lines_<v>.json`,
 //! `camera_<v>.json`, each written atomically.
+//!
+//! Formats (README "Output files"):
+//! * `view_<v>.png`: 8-bit grayscale picture.
+//! * `depth_<v>.png`: 16-bit grayscale, depth along the optical axis in
+//!   1 / [`DEPTH_UNITS_PER_MM`] mm steps, 0 = nothing seen.
+//! * `ids_<v>.png`: 16-bit grayscale, block index + 1, 0 = floor or background.
+//! * `lines_<v>.json`: [`crate::drawing::LineDrawing::to_json`].
+//! * `camera_<v>.json`: the serde [`crate::render::Camera`] plus `depth_units_per_mm` and
+//!   `picture`, the picture-coordinate convention in words.
 
-use crate::render::RenderedView;
+use crate::io::write_atomic;
+use crate::render::{Camera, RenderedView, DEPTH_UNITS_PER_MM};
+use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+use image::{ExtendedColorType, ImageEncoder};
+use sha2::{Digest, Sha256};
 use std::path::Path;
+
+/// The picture-coordinate convention written into every `camera_<v>.json`.
+pub const PICTURE_CONVENTION: &str = "picture px: x right, y up, origin at the bottom-left \
+corner of the picture, pixel centres at +0.5; PNG row r (0 at the top) has its centres at \
+y = height - r - 0.5. Project a world point (mm) with clip = clip_from_view * view_from_world \
+* [x, y, z, 1] (column-major), ndc = clip.xyz / clip.w, x_px = (ndc.x + 1) / 2 * width, \
+y_px = (ndc.y + 1) / 2 * height; depth PNG value = round(depth along the optical axis in mm \
+* depth_units_per_mm)";
 
 /// A file written: its name inside the directory and the sha256 of its bytes (hex).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -14,10 +35,140 @@ pub struct WrittenFile {
     pub sha256: String,
 }
 
-/// Writes every view's files into `dir` (which must exist), atomically, in a fixed order.
+/// Writes every view's files into `dir` (which must exist), atomically, in a fixed order:
+/// per view `view`, `depth`, `ids`, `lines`, `camera`.
 pub fn write_rendered_views(
-    _dir: &Path,
-    _views: &[RenderedView],
+    dir: &Path,
+    views: &[RenderedView],
 ) -> std::io::Result<Vec<WrittenFile>> {
-    Err(std::io::Error::other("not implemented yet"))
+    let mut written = Vec::with_capacity(views.len() * 5);
+    for v in views {
+        let name = v.camera.view.name();
+        let files = [
+            (format!("view_{name}.png"), encode_png_gray8(&v.gray)?),
+            (format!("depth_{name}.png"), encode_png_gray16(&v.depth)?),
+            (format!("ids_{name}.png"), encode_png_gray16(&v.ids)?),
+            (format!("lines_{name}.json"), v.lines.to_json().into_bytes()),
+            (
+                format!("camera_{name}.json"),
+                camera_json(&v.camera).into_bytes(),
+            ),
+        ];
+        for (file, bytes) in files {
+            write_atomic(&dir.join(&file), &bytes)?;
+            written.push(WrittenFile {
+                name: file,
+                sha256: hex::encode(Sha256::digest(&bytes)),
+            });
+        }
+    }
+    Ok(written)
+}
+
+/// `camera_<v>.json`: the camera plus the depth scale and the picture convention.
+pub fn camera_json(camera: &Camera) -> String {
+    let mut value = serde_json::to_value(camera).expect("camera serializes");
+    if let Some(map) = value.as_object_mut() {
+        map.insert("depth_units_per_mm".into(), DEPTH_UNITS_PER_MM.into());
+        map.insert("picture".into(), PICTURE_CONVENTION.into());
+    }
+    let mut s = serde_json::to_string_pretty(&value).expect("json serializes");
+    s.push('\n');
+    s
+}
+
+/// PNG bytes of an 8-bit gray image (fast compression, adaptive filter).
+pub fn encode_png_gray8(img: &image::GrayImage) -> std::io::Result<Vec<u8>> {
+    encode_png(
+        img.as_raw(),
+        img.width(),
+        img.height(),
+        ExtendedColorType::L8,
+    )
+}
+
+/// PNG bytes of a 16-bit gray image (the encoder writes PNG's big-endian samples).
+pub fn encode_png_gray16(img: &crate::render::Gray16Image) -> std::io::Result<Vec<u8>> {
+    let bytes: &[u8] = bytemuck::cast_slice(img.as_raw());
+    encode_png(bytes, img.width(), img.height(), ExtendedColorType::L16)
+}
+
+fn encode_png(bytes: &[u8], w: u32, h: u32, color: ExtendedColorType) -> std::io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    PngEncoder::new_with_quality(&mut out, CompressionType::Fast, FilterType::Adaptive)
+        .write_image(bytes, w, h, color)
+        .map_err(std::io::Error::other)?;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::LineDrawing;
+    use crate::render::{CameraOptions, CornerView, Gray16Image};
+    use image::{GrayImage, Luma};
+
+    fn view() -> RenderedView {
+        let camera = Camera::frame(
+            &[glam::DVec3::ZERO, glam::DVec3::ONE * 15.0],
+            CornerView::Se,
+            &CameraOptions {
+                size_px: [7, 5],
+                ..Default::default()
+            },
+        );
+        let mut depth = Gray16Image::new(7, 5);
+        depth.put_pixel(1, 2, Luma([40_000]));
+        let mut ids = Gray16Image::new(7, 5);
+        ids.put_pixel(6, 4, Luma([3]));
+        RenderedView {
+            camera,
+            gray: GrayImage::from_fn(7, 5, |x, y| Luma([(x * 30 + y) as u8])),
+            depth,
+            ids,
+            lines: LineDrawing::default(),
+        }
+    }
+
+    #[test]
+    fn writes_five_files_per_view_that_decode_to_the_same_pixels() {
+        let dir = tempfile::tempdir().unwrap();
+        let v = view();
+        let written = write_rendered_views(dir.path(), std::slice::from_ref(&v)).unwrap();
+        let names: Vec<&str> = written.iter().map(|w| w.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "view_se.png",
+                "depth_se.png",
+                "ids_se.png",
+                "lines_se.json",
+                "camera_se.json"
+            ]
+        );
+        for w in &written {
+            let bytes = std::fs::read(dir.path().join(&w.name)).unwrap();
+            assert_eq!(hex::encode(Sha256::digest(&bytes)), w.sha256);
+        }
+        let gray = image::open(dir.path().join("view_se.png")).unwrap();
+        assert_eq!(gray.color(), image::ColorType::L8);
+        assert_eq!(gray.into_luma8(), v.gray);
+        let depth = image::open(dir.path().join("depth_se.png")).unwrap();
+        assert_eq!(depth.color(), image::ColorType::L16);
+        assert_eq!(depth.into_luma16(), v.depth);
+        let ids = image::open(dir.path().join("ids_se.png"))
+            .unwrap()
+            .into_luma16();
+        assert_eq!(ids, v.ids);
+        let cam: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.path().join("camera_se.json")).unwrap())
+                .unwrap();
+        assert_eq!(cam["depth_units_per_mm"], 16.0);
+        assert_eq!(cam["view"], "se");
+        assert!(cam["picture"].as_str().unwrap().contains("y up"));
+        let back: Camera = serde_json::from_value(cam).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(back, v.camera);
+        // Nothing else (no temporaries) in the directory.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 5);
+    }
 }

@@ -5,11 +5,13 @@
 //! `camera` is pure math shared with `vision`; `truth` is pure geometry; only `gpu` touches wgpu.
 
 pub mod camera;
+mod gpu;
 pub mod truth;
 
 pub use camera::{Camera, CameraOptions, CornerView, Projection};
 
 use crate::drawing::LineDrawing;
+use crate::geom::DVec3;
 use crate::scene::Scene;
 use image::{GrayImage, ImageBuffer, Luma};
 
@@ -86,31 +88,95 @@ pub enum RenderError {
     /// Options that cannot be rendered (size, MSAA count).
     #[error("invalid render options: {0}")]
     Options(String),
-    /// Not built yet.
+    /// Kept from the pinned API for callers that match on it; the renderer no longer returns it.
     #[error("the renderer is not implemented yet")]
     Unimplemented,
 }
 
+/// Gray level of the background (where neither the floor nor a block is seen).
+pub const BACKGROUND_LEVEL: u8 = 20;
+
+/// Gray level of the seam drawn along every block face edge, so that touching blocks stay
+/// distinguishable (issue #2; real Fischer-Technik blocks show a dark gap there).
+pub const SEAM_LEVEL: u8 = 35;
+
+/// Half width of the seam in px: a fragment closer than this to an edge line of its own face is
+/// seam. An edge shared by two visible faces (a convex edge, a crack between touching blocks)
+/// gets a band about 1 px wide centred on the exact line; a silhouette edge gets the half band
+/// on its block's side only.
+pub const SEAM_HALF_WIDTH_PX: f64 = 0.5;
+
+pub use gpu::mesh::{face_gray_level, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO, LIGHT_IN_CAMERA_FRAME};
+
 /// The renderer: one wgpu device, created once and reused for any number of scenes; `Sync`, so
-/// worker threads can share it.
+/// worker threads can share it (rendering itself is serialised on one queue).
 pub struct Renderer {
-    _private: (),
+    gpu: gpu::Gpu,
 }
 
 impl Renderer {
-    /// Creates the device on `backend`.
-    pub fn new(_backend: Backend) -> Result<Renderer, RenderError> {
-        Err(RenderError::Unimplemented)
+    /// Creates the device on `backend` (instance, adapter, device and pipelines, once).
+    pub fn new(backend: Backend) -> Result<Renderer, RenderError> {
+        Ok(Renderer {
+            gpu: gpu::Gpu::new(backend)?,
+        })
     }
 
-    /// Renders one corner view of `scene` with its ground truth.
+    /// Renders one corner view of `scene` with its ground truth, including the exact visible
+    /// line drawing ([`truth::visible_line_drawing`]).
     pub fn render(
         &self,
-        _scene: &Scene,
-        _view: CornerView,
-        _opts: &RenderOptions,
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
     ) -> Result<RenderedView, RenderError> {
-        Err(RenderError::Unimplemented)
+        let mut rendered = self.render_pixels(scene, view, opts)?;
+        rendered.lines = truth::visible_line_drawing(scene, &rendered.camera);
+        Ok(rendered)
+    }
+
+    /// Renders the pixels of one view (gray picture, depth, ids) and leaves `lines` empty: for
+    /// benchmarks and callers that compute their own drawing.
+    pub fn render_pixels(
+        &self,
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
+    ) -> Result<RenderedView, RenderError> {
+        self.check_options(opts)?;
+        let points: Vec<DVec3> = scene
+            .blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .collect();
+        let camera = Camera::frame(&points, view, &opts.camera);
+        let vertices = gpu::mesh::scene_vertices(scene, &camera).map_err(|e| {
+            RenderError::Options(format!(
+                "block {} face {} has {} edges; the renderer draws faces of at most {} edges",
+                e.block,
+                e.face,
+                e.edges,
+                gpu::mesh::MAX_FACE_EDGES
+            ))
+        })?;
+        let [w, h] = opts.camera.size_px;
+        let frame = self
+            .gpu
+            .draw(&vertices, &frame_uniforms(&camera), [w, h], opts.msaa)?;
+        let mut gray = GrayImage::from_raw(w, h, frame.gray)
+            .ok_or_else(|| RenderError::Gpu("gray readback has the wrong size".into()))?;
+        add_sensor_noise(&mut gray, opts.noise_sigma, noise_seed(opts.seed, view));
+        let depth = Gray16Image::from_raw(w, h, frame.depth)
+            .ok_or_else(|| RenderError::Gpu("depth readback has the wrong size".into()))?;
+        let ids = Gray16Image::from_raw(w, h, frame.ids)
+            .ok_or_else(|| RenderError::Gpu("ids readback has the wrong size".into()))?;
+        Ok(RenderedView {
+            camera,
+            gray,
+            depth,
+            ids,
+            lines: LineDrawing::default(),
+        })
     }
 
     /// Renders the given views of `scene` (usually [`CornerView::ALL`]).
@@ -125,6 +191,111 @@ impl Renderer {
 
     /// Adapter name and backend, for logs and benchmark tables.
     pub fn adapter_info(&self) -> String {
-        String::new()
+        self.gpu.adapter_info()
+    }
+
+    fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
+        let [w, h] = opts.camera.size_px;
+        let max = self.gpu.max_texture_px();
+        if w == 0 || h == 0 || w > max || h > max {
+            return Err(RenderError::Options(format!(
+                "picture size {w}x{h} px: each side must be 1..={max} on this device"
+            )));
+        }
+        if opts.msaa != 1 && opts.msaa != 4 {
+            return Err(RenderError::Options(format!(
+                "msaa {}: use 1 (exact gray levels) or 4 (the only count lavapipe offers)",
+                opts.msaa
+            )));
+        }
+        if !opts.noise_sigma.is_finite() || opts.noise_sigma < 0.0 {
+            return Err(RenderError::Options(format!(
+                "noise sigma {} must be a finite number >= 0",
+                opts.noise_sigma
+            )));
+        }
+        let c = &opts.camera;
+        let sane = c.elevation_deg.is_finite()
+            && c.elevation_deg > 0.0
+            && c.elevation_deg < 90.0
+            && c.pixel_aspect.is_finite()
+            && c.pixel_aspect > 0.0
+            && c.margin.is_finite()
+            && (0.0..0.5).contains(&c.margin);
+        if !sane {
+            return Err(RenderError::Options(format!(
+                "camera: elevation {} deg must be in (0, 90), pixel aspect {} > 0, margin {} in [0, 0.5)",
+                c.elevation_deg, c.pixel_aspect, c.margin
+            )));
+        }
+        if let Projection::Perspective { fov_y_deg } = c.projection {
+            if !(fov_y_deg.is_finite() && fov_y_deg > 0.0 && fov_y_deg < 180.0) {
+                return Err(RenderError::Options(format!(
+                    "field of view {fov_y_deg} deg must be in (0, 180)"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The shader constants of one view: the camera's matrices in f32.
+fn frame_uniforms(camera: &Camera) -> gpu::FrameUniforms {
+    let clip = camera.clip_from_world().as_mat4().to_cols_array();
+    let z_row = camera.view_matrix().row(2).as_vec4().to_array();
+    gpu::FrameUniforms {
+        clip_from_world: clip,
+        view_z_row: z_row,
+        seam_half_width_px: SEAM_HALF_WIDTH_PX as f32,
+        seam_level: f32::from(SEAM_LEVEL),
+        depth_units_per_mm: DEPTH_UNITS_PER_MM as f32,
+        pad: 0.0,
+    }
+}
+
+/// The noise seed of one view: the options' seed mixed with the view, so the four views get
+/// different but reproducible noise.
+fn noise_seed(seed: u64, view: CornerView) -> u64 {
+    let v = CornerView::ALL.iter().position(|c| *c == view).unwrap_or(0) as u64;
+    seed ^ (v + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+}
+
+/// Adds Gaussian sensor noise of standard deviation `sigma_levels` (the thesis's CCD camera,
+/// Ch. VI) to every pixel, rounded and clamped to 0..=255; deterministic in `seed`.
+pub fn add_sensor_noise(gray: &mut GrayImage, sigma_levels: f64, seed: u64) {
+    use rand::SeedableRng;
+    use rand_distr::Distribution;
+    if sigma_levels <= 0.0 {
+        return;
+    }
+    let Ok(normal) = rand_distr::Normal::new(0.0, sigma_levels) else {
+        return;
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    for p in gray.pixels_mut() {
+        let v = f64::from(p.0[0]) + normal.sample(&mut rng);
+        p.0[0] = v.round().clamp(0.0, 255.0) as u8;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn noise_is_deterministic_per_seed_and_view() {
+        let base = GrayImage::from_pixel(16, 16, Luma([100]));
+        let noisy = |seed, view| {
+            let mut g = base.clone();
+            add_sensor_noise(&mut g, 5.0, noise_seed(seed, view));
+            g
+        };
+        assert_eq!(noisy(1, CornerView::Ne), noisy(1, CornerView::Ne));
+        assert_ne!(noisy(1, CornerView::Ne), noisy(2, CornerView::Ne));
+        assert_ne!(noisy(1, CornerView::Ne), noisy(1, CornerView::Se));
+        assert_ne!(noisy(1, CornerView::Ne), base);
+        let mut clean = base.clone();
+        add_sensor_noise(&mut clean, 0.0, 7);
+        assert_eq!(clean, base);
     }
 }

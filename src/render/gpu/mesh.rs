@@ -1,0 +1,221 @@
+//! The triangle mesh the GPU draws: every block's catalog polyhedron (convex faces,
+//! fan-triangulated) plus a floor quad, with the per-vertex data the shader needs: flat
+//! Lambert gray level, block id and, for the seam between touching blocks, the distance in mm
+//! from the vertex to every edge line of its face.
+//!
+//! Plain data, no wgpu: the shading rule lives here so tests can compute the expected levels.
+
+use crate::geom::DVec3;
+use crate::render::Camera;
+use crate::scene::Scene;
+
+/// Most edges a face polygon may have: the shader carries one distance per edge line in two
+/// `vec4`s (catalog faces have 4; the Chapter VII wedge has at most 4 too).
+pub const MAX_FACE_EDGES: usize = 8;
+
+/// Distance written for unused edge slots and for the floor: far beyond any seam.
+const NO_EDGE_MM: f32 = 1.0e9;
+
+/// Ambient share of the light (faces turned away from the light get only this).
+pub const AMBIENT: f64 = 0.25;
+
+/// The directional light, scaled by its diffuse intensity, in the light frame that turns with
+/// the camera about the vertical: (camera right, world up, horizontal towards the camera).
+/// It comes from the upper left, behind the camera. Chosen so that, for any elevation, block
+/// faces (albedo 1) in a corner view get top 210, left 150, right 100 (see [`face_gray_level`]).
+pub const LIGHT_IN_CAMERA_FRAME: [f64; 3] = [-0.1387, 0.5735, 0.3397];
+
+/// Albedo of the blocks (light wood in the thesis's photographs, Figure 6.3).
+pub const BLOCK_ALBEDO: f64 = 1.0;
+
+/// Albedo of the floor: 2/7 of a block's, so the floor's gray level is 60.
+pub const FLOOR_ALBEDO: f64 = 2.0 / 7.0;
+
+/// One vertex as the shader reads it (`shaders/scene.wgsl`, `VertexIn`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    /// World position, mm.
+    pub position_mm: [f32; 3],
+    /// Distance in mm from this vertex to the line of each edge of its face, inside the face
+    /// positive; [`NO_EDGE_MM`] for unused slots. Affine over the face, so interpolation is exact.
+    pub edge_distance_mm: [f32; MAX_FACE_EDGES],
+    /// Flat gray level 0..=255 of the face.
+    pub gray_level: u32,
+    /// Block index + 1; 0 for the floor.
+    pub block_id: u32,
+}
+
+/// A face polygon with more edges than the shader carries.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TooManyEdges {
+    /// Block index in the scene.
+    pub block: usize,
+    /// Face index in the block's catalog polyhedron.
+    pub face: usize,
+    /// Its number of edges.
+    pub edges: usize,
+}
+
+/// The light vector (direction times diffuse intensity) in world coordinates for `camera`:
+/// [`LIGHT_IN_CAMERA_FRAME`] turned to the camera's azimuth.
+pub fn light_in_world(camera: &Camera) -> DVec3 {
+    let az = camera.azimuth_deg.to_radians();
+    // Horizontal unit vector from the scene towards the camera, and the camera's right.
+    let towards = DVec3::new(az.sin(), 0.0, -az.cos());
+    let right = DVec3::new(-az.cos(), 0.0, -az.sin());
+    let [x, y, z] = LIGHT_IN_CAMERA_FRAME;
+    right * x + DVec3::Y * y + towards * z
+}
+
+/// Lambert shading of a flat face with outward unit normal `normal` and `albedo`, as a gray
+/// level: `255 * albedo * (AMBIENT + max(0, normal . light))`, rounded. Top faces of blocks get
+/// 210, the left and right faces of an unturned block 150 and 100, the floor 60.
+pub fn face_gray_level(normal: DVec3, albedo: f64, camera: &Camera) -> u8 {
+    let lambert = normal.dot(light_in_world(camera)).max(0.0);
+    (255.0 * albedo * (AMBIENT + lambert))
+        .round()
+        .clamp(0.0, 255.0) as u8
+}
+
+/// Triangles of every block of `scene` and of the floor, as seen by `camera` (the light follows
+/// the camera). The floor is a square at y = 0 centred under the camera target, as wide as the
+/// far clip distance, so it fills every picture down to the far plane or the horizon.
+pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, TooManyEdges> {
+    let mut out = Vec::with_capacity(6 + scene.blocks.len() * 36);
+    push_floor(&mut out, camera);
+    for (index, block) in scene.blocks.iter().enumerate() {
+        let world = block.world_vertices();
+        for (f, face) in block.block_type.faces.iter().enumerate() {
+            if face.len() > MAX_FACE_EDGES {
+                return Err(TooManyEdges {
+                    block: index,
+                    face: f,
+                    edges: face.len(),
+                });
+            }
+            let corners: Vec<DVec3> = face.iter().map(|&k| world[k as usize]).collect();
+            let normal = block.world_face_normal(f);
+            let level = face_gray_level(normal, BLOCK_ALBEDO, camera);
+            push_face(&mut out, &corners, normal, level, index as u32 + 1);
+        }
+    }
+    Ok(out)
+}
+
+fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
+    let half = camera.near_far_mm[1].max(1000.0);
+    let [cx, _, cz] = camera.target_mm;
+    let corner = |dx: f64, dz: f64| DVec3::new(cx + dx * half, 0.0, cz + dz * half);
+    // Counter-clockwise seen from above.
+    let quad = [
+        corner(-1.0, -1.0),
+        corner(-1.0, 1.0),
+        corner(1.0, 1.0),
+        corner(1.0, -1.0),
+    ];
+    let level = face_gray_level(DVec3::Y, FLOOR_ALBEDO, camera) as u32;
+    for k in [0, 1, 2, 0, 2, 3] {
+        out.push(Vertex {
+            position_mm: quad[k].as_vec3().to_array(),
+            edge_distance_mm: [NO_EDGE_MM; MAX_FACE_EDGES],
+            gray_level: level,
+            block_id: 0,
+        });
+    }
+}
+
+/// Fan-triangulates the convex polygon `corners` (counter-clockwise seen from outside).
+fn push_face(out: &mut Vec<Vertex>, corners: &[DVec3], normal: DVec3, level: u8, id: u32) {
+    let n = corners.len();
+    // Inward in-plane unit normal of each edge line: normal x edge direction.
+    let inward: Vec<DVec3> = (0..n)
+        .map(|k| normal.cross(corners[(k + 1) % n] - corners[k]).normalize())
+        .collect();
+    let vertex = |p: DVec3| {
+        let mut d = [NO_EDGE_MM; MAX_FACE_EDGES];
+        for k in 0..n {
+            d[k] = inward[k].dot(p - corners[k]) as f32;
+        }
+        Vertex {
+            position_mm: p.as_vec3().to_array(),
+            edge_distance_mm: d,
+            gray_level: level as u32,
+            block_id: id,
+        }
+    };
+    for k in 1..n - 1 {
+        out.push(vertex(corners[0]));
+        out.push(vertex(corners[k]));
+        out.push(vertex(corners[k + 1]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{CameraOptions, CornerView};
+    use crate::scene::Block;
+
+    fn cube() -> Scene {
+        Scene::new("c", vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)])
+    }
+
+    #[test]
+    fn levels_are_210_150_100_and_floor_60_in_every_corner_view_and_elevation() {
+        let pts = cube().blocks[0].world_vertices();
+        for elevation_deg in [10.0, crate::geom::ISOMETRIC_ELEVATION_DEG, 60.0, 85.0] {
+            let opts = CameraOptions {
+                elevation_deg,
+                ..Default::default()
+            };
+            for view in CornerView::ALL {
+                let cam = Camera::frame(&pts, view, &opts);
+                // The two visible side faces: normals with a positive component towards the eye.
+                let eye = cam.towards_eye();
+                let sides: Vec<DVec3> = [DVec3::X, -DVec3::X, DVec3::Z, -DVec3::Z]
+                    .into_iter()
+                    .filter(|n| n.dot(eye) > 0.0)
+                    .collect();
+                assert_eq!(sides.len(), 2);
+                let right_dir = cam.view_matrix().row(0).truncate();
+                let (left, right) = if sides[0].dot(right_dir) < sides[1].dot(right_dir) {
+                    (sides[0], sides[1])
+                } else {
+                    (sides[1], sides[0])
+                };
+                assert_eq!(face_gray_level(DVec3::Y, BLOCK_ALBEDO, &cam), 210);
+                assert_eq!(face_gray_level(left, BLOCK_ALBEDO, &cam), 150, "{view:?}");
+                assert_eq!(face_gray_level(right, BLOCK_ALBEDO, &cam), 100, "{view:?}");
+                assert_eq!(face_gray_level(DVec3::Y, FLOOR_ALBEDO, &cam), 60);
+            }
+        }
+    }
+
+    #[test]
+    fn cube_mesh_has_floor_and_twelve_triangles_with_exact_edge_distances() {
+        let scene = cube();
+        let cam = Camera::frame(
+            &scene.blocks[0].world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let v = scene_vertices(&scene, &cam).unwrap();
+        assert_eq!(v.len(), 6 + 12 * 3);
+        assert!(v[..6].iter().all(|v| v.block_id == 0));
+        for t in v[6..].chunks(3) {
+            // Every triangle vertex is a polygon corner: it lies on two edge lines (distance 0)
+            // and 15 mm from the opposite ones.
+            for p in t {
+                let mut d: Vec<f32> = p.edge_distance_mm[..4].to_vec();
+                d.sort_by(f32::total_cmp);
+                assert_eq!(d, vec![0.0, 0.0, 15.0, 15.0], "{p:?}");
+                assert_eq!(p.block_id, 1);
+            }
+            // Counter-clockwise seen from outside: the triangle normal points away from the centre.
+            let [a, b, c] = [t[0], t[1], t[2]].map(|p| DVec3::from(p.position_mm.map(f64::from)));
+            let n = (b - a).cross(c - a);
+            assert!(n.dot((a + b + c) / 3.0 - DVec3::new(0.0, 7.5, 0.0)) > 0.0);
+        }
+    }
+}

@@ -1,0 +1,630 @@
+//! The only wgpu code of blockworld: the device (made once), the pipelines of
+//! `shaders/scene.wgsl`, cached render targets and the readback of the gray picture, depth and
+//! block ids.
+//!
+//! Without MSAA one pass writes all three targets (gray `R8Unorm`, depth and ids `R16Uint`).
+//! With MSAA 4 the gray picture is drawn multisampled and resolved, and a second single-sampled
+//! pass draws the ground truth, so depth and ids are never blended.
+
+pub mod mesh;
+
+use super::{Backend, RenderError};
+use mesh::Vertex;
+use std::sync::{Arc, Mutex};
+
+/// The shader source, compiled in so an edited shader triggers a rebuild.
+const SCENE_WGSL: &str = include_str!("../../../shaders/scene.wgsl");
+
+const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Uint;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// How many differently sized target sets stay cached.
+const MAX_CACHED_TARGETS: usize = 4;
+
+/// Per-frame shader constants (`Frame` in `shaders/scene.wgsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    /// World mm to clip space, column-major.
+    pub clip_from_world: [f32; 16],
+    /// Third row of the world-to-camera matrix (depth = -dot(row, p)).
+    pub view_z_row: [f32; 4],
+    /// Seam half width in px.
+    pub seam_half_width_px: f32,
+    /// Seam gray level.
+    pub seam_level: f32,
+    /// Depth PNG steps per mm.
+    pub depth_units_per_mm: f32,
+    /// Padding to 16 bytes.
+    pub pad: f32,
+}
+
+/// One frame read back, rows top to bottom, tightly packed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Gray levels, `w * h`.
+    pub gray: Vec<u8>,
+    /// Depth in 1/16 mm, `w * h`.
+    pub depth: Vec<u16>,
+    /// Block index + 1, `w * h`.
+    pub ids: Vec<u16>,
+}
+
+struct Pipelines {
+    /// Single-sampled gray + depth + ids.
+    all: wgpu::RenderPipeline,
+    /// Gray only, 4 samples.
+    gray_msaa4: wgpu::RenderPipeline,
+    /// Depth + ids, single-sampled.
+    truth: wgpu::RenderPipeline,
+}
+
+/// Bytes per row of each readback region, padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ReadbackLayout {
+    gray_row: u32,
+    truth_row: u32,
+    height: u32,
+}
+
+impl ReadbackLayout {
+    fn new([w, h]: [u32; 2]) -> ReadbackLayout {
+        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        ReadbackLayout {
+            gray_row: w.div_ceil(align) * align,
+            truth_row: (2 * w).div_ceil(align) * align,
+            height: h,
+        }
+    }
+    fn depth_offset(&self) -> u64 {
+        self.gray_row as u64 * self.height as u64
+    }
+    fn ids_offset(&self) -> u64 {
+        self.depth_offset() + self.truth_row as u64 * self.height as u64
+    }
+    fn total(&self) -> u64 {
+        self.ids_offset() + self.truth_row as u64 * self.height as u64
+    }
+}
+
+/// Render targets and the readback buffer for one (size, msaa).
+struct Targets {
+    size: [u32; 2],
+    msaa: u32,
+    gray: wgpu::Texture,
+    gray_view: wgpu::TextureView,
+    depth: wgpu::Texture,
+    depth_view: wgpu::TextureView,
+    ids: wgpu::Texture,
+    ids_view: wgpu::TextureView,
+    depth_buffer_view: wgpu::TextureView,
+    /// Multisampled gray and depth buffer (MSAA 4 only).
+    msaa_views: Option<(wgpu::TextureView, wgpu::TextureView)>,
+    readback: wgpu::Buffer,
+    layout: ReadbackLayout,
+}
+
+/// Mutable state behind the lock: the growable vertex buffer and cached targets.
+#[derive(Default)]
+struct State {
+    vertices: Option<wgpu::Buffer>,
+    targets: Vec<Targets>,
+}
+
+/// The device with its pipelines; all rendering goes through [`Gpu::draw`].
+pub struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    pipelines: Pipelines,
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    max_texture_px: u32,
+    /// Errors wgpu reported outside any error scope (instead of panicking).
+    uncaptured: Arc<Mutex<Vec<String>>>,
+    state: Mutex<State>,
+}
+
+impl Gpu {
+    /// Creates instance, adapter, device and pipelines on `backend`.
+    pub fn new(backend: Backend) -> Result<Gpu, RenderError> {
+        let (backends, name) = match backend {
+            Backend::Vulkan => (wgpu::Backends::VULKAN, "Vulkan"),
+            Backend::Gl => (wgpu::Backends::GL, "GL"),
+        };
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        desc.flags = wgpu::InstanceFlags::empty();
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            ..Default::default()
+        }))
+        .map_err(|e| RenderError::NoAdapter {
+            backend: name,
+            detail: e.to_string(),
+        })?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("blockworld"),
+            required_features: wgpu::Features::empty(),
+            required_limits: wgpu::Limits::downlevel_webgl2_defaults().using_resolution(limits),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| RenderError::Gpu(format!("cannot create a {name} device: {e}")))?;
+        let uncaptured = Arc::new(Mutex::new(Vec::new()));
+        let sink = Arc::clone(&uncaptured);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            tracing::error!("wgpu: {e}");
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (pipelines, uniforms, bind_group) = create_pipelines(&device);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
+        }
+        Ok(Gpu {
+            max_texture_px: device.limits().max_texture_dimension_2d,
+            device,
+            queue,
+            info,
+            pipelines,
+            uniforms,
+            bind_group,
+            uncaptured,
+            state: Mutex::new(State::default()),
+        })
+    }
+
+    /// "name (backend, device type)".
+    pub fn adapter_info(&self) -> String {
+        format!(
+            "{} ({:?}, {:?}, driver {} {})",
+            self.info.name,
+            self.info.backend,
+            self.info.device_type,
+            self.info.driver,
+            self.info.driver_info
+        )
+    }
+
+    /// Largest picture side the device accepts, px.
+    pub fn max_texture_px(&self) -> u32 {
+        self.max_texture_px
+    }
+
+    /// Draws `vertices` (a triangle list) with `uniforms` into `size` px targets with `msaa`
+    /// samples (1 or 4, checked by the caller) and reads the three images back.
+    pub fn draw(
+        &self,
+        vertices: &[Vertex],
+        uniforms: &FrameUniforms,
+        size: [u32; 2],
+        msaa: u32,
+    ) -> Result<Frame, RenderError> {
+        let mut state = self
+            .state
+            .lock()
+            .map_err(|_| RenderError::Gpu("renderer state poisoned by an earlier panic".into()))?;
+        let state = &mut *state;
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let vertex_bytes: &[u8] = bytemuck::cast_slice(vertices);
+        let vbuf = self.vertex_buffer(&mut state.vertices, vertex_bytes.len() as u64);
+        self.queue.write_buffer(vbuf, 0, vertex_bytes);
+        self.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+        let targets = self.targets(&mut state.targets, size, msaa);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        self.encode_passes(&mut encoder, targets, vbuf, vertices.len() as u32);
+        encode_readback(&mut encoder, targets);
+        self.queue.submit([encoder.finish()]);
+        let result = self.read_back(targets);
+        let oom_error = pollster::block_on(oom.pop());
+        let validation_error = pollster::block_on(scope.pop());
+        if let Some(e) = validation_error.or(oom_error) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        if let Some(e) = self.uncaptured.lock().ok().and_then(|mut v| v.pop()) {
+            return Err(RenderError::Gpu(e));
+        }
+        result
+    }
+
+    /// The vertex buffer, grown (to a power of two) only when the scene does not fit.
+    fn vertex_buffer<'a>(
+        &self,
+        slot: &'a mut Option<wgpu::Buffer>,
+        bytes: u64,
+    ) -> &'a wgpu::Buffer {
+        let fits = slot.as_ref().is_some_and(|b| b.size() >= bytes);
+        if !fits {
+            *slot = Some(self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("scene vertices"),
+                size: bytes.next_power_of_two().max(64 * 1024),
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        slot.as_ref().expect("just created")
+    }
+
+    /// The cached targets for (size, msaa), created on first use.
+    fn targets<'a>(&self, cache: &'a mut Vec<Targets>, size: [u32; 2], msaa: u32) -> &'a Targets {
+        let found = cache.iter().position(|t| t.size == size && t.msaa == msaa);
+        let index = match found {
+            Some(i) => i,
+            None => {
+                if cache.len() >= MAX_CACHED_TARGETS {
+                    cache.remove(0);
+                }
+                cache.push(self.create_targets(size, msaa));
+                cache.len() - 1
+            }
+        };
+        &cache[index]
+    }
+
+    fn create_targets(&self, size: [u32; 2], msaa: u32) -> Targets {
+        let texture = |label, format, samples, usage| {
+            let t = self.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            });
+            let v = t.create_view(&wgpu::TextureViewDescriptor::default());
+            (t, v)
+        };
+        let readable = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let (gray, gray_view) = texture("gray", GRAY_FORMAT, 1, readable);
+        let (depth, depth_view) = texture("depth", TRUTH_FORMAT, 1, readable);
+        let (ids, ids_view) = texture("ids", TRUTH_FORMAT, 1, readable);
+        let (_, depth_buffer_view) = texture("depth buffer", DEPTH_FORMAT, 1, attachment);
+        let msaa_views = (msaa > 1).then(|| {
+            let (_, c) = texture("gray msaa", GRAY_FORMAT, msaa, attachment);
+            let (_, d) = texture("depth buffer msaa", DEPTH_FORMAT, msaa, attachment);
+            (c, d)
+        });
+        let layout = ReadbackLayout::new(size);
+        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: layout.total(),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Targets {
+            size,
+            msaa,
+            gray,
+            gray_view,
+            depth,
+            depth_view,
+            ids,
+            ids_view,
+            depth_buffer_view,
+            msaa_views,
+            readback,
+            layout,
+        }
+    }
+
+    fn encode_passes(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        t: &Targets,
+        vbuf: &wgpu::Buffer,
+        vertex_count: u32,
+    ) {
+        let background = f64::from(super::BACKGROUND_LEVEL) / 255.0;
+        let clear_gray = wgpu::Color {
+            r: background,
+            g: 0.0,
+            b: 0.0,
+            a: 1.0,
+        };
+        let gray_target = |view, resolve| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: resolve,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear_gray),
+                store: wgpu::StoreOp::Store,
+            },
+        };
+        let truth_target = |view| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Store,
+            },
+        };
+        let mut pass = |pipeline: &wgpu::RenderPipeline,
+                        colors: &[Option<wgpu::RenderPassColorAttachment>],
+                        depth_buffer: &wgpu::TextureView| {
+            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: None,
+                color_attachments: colors,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: depth_buffer,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            rp.set_pipeline(pipeline);
+            rp.set_bind_group(0, &self.bind_group, &[]);
+            rp.set_vertex_buffer(0, vbuf.slice(..));
+            rp.draw(0..vertex_count, 0..1);
+        };
+        match &t.msaa_views {
+            None => pass(
+                &self.pipelines.all,
+                &[
+                    Some(gray_target(&t.gray_view, None)),
+                    Some(truth_target(&t.depth_view)),
+                    Some(truth_target(&t.ids_view)),
+                ],
+                &t.depth_buffer_view,
+            ),
+            Some((color, depth_buffer)) => {
+                pass(
+                    &self.pipelines.gray_msaa4,
+                    &[Some(gray_target(color, Some(&t.gray_view)))],
+                    depth_buffer,
+                );
+                pass(
+                    &self.pipelines.truth,
+                    &[
+                        Some(truth_target(&t.depth_view)),
+                        Some(truth_target(&t.ids_view)),
+                    ],
+                    &t.depth_buffer_view,
+                );
+            }
+        }
+    }
+
+    /// Maps the readback buffer, waits, and unpads the rows.
+    fn read_back(&self, t: &Targets) -> Result<Frame, RenderError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        t.readback.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| RenderError::Gpu(format!("waiting for the GPU: {e}")))?;
+        rx.recv()
+            .map_err(|_| RenderError::Gpu("readback callback never ran".into()))?
+            .map_err(|e| RenderError::Gpu(format!("mapping the readback buffer: {e}")))?;
+        let frame = {
+            let bytes = t
+                .readback
+                .get_mapped_range(..)
+                .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
+            unpad(&bytes, t.size, &t.layout)
+        };
+        t.readback.unmap();
+        Ok(frame)
+    }
+}
+
+/// Copies the three targets into the readback buffer, rows padded to 256 bytes.
+fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets) {
+    let l = &t.layout;
+    let extent = wgpu::Extent3d {
+        width: t.size[0],
+        height: t.size[1],
+        depth_or_array_layers: 1,
+    };
+    for (texture, offset, row) in [
+        (&t.gray, 0, l.gray_row),
+        (&t.depth, l.depth_offset(), l.truth_row),
+        (&t.ids, l.ids_offset(), l.truth_row),
+    ] {
+        encoder.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &t.readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(t.size[1]),
+                },
+            },
+            extent,
+        );
+    }
+}
+
+/// Drops the row padding: tight `w * h` images, rows top to bottom.
+fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
+    let (w, h) = (w as usize, h as usize);
+    let mut gray = Vec::with_capacity(w * h);
+    for r in 0..h {
+        let start = r * l.gray_row as usize;
+        gray.extend_from_slice(&bytes[start..start + w]);
+    }
+    let read16 = |offset: u64| {
+        let mut out = Vec::with_capacity(w * h);
+        for r in 0..h {
+            let start = offset as usize + r * l.truth_row as usize;
+            out.extend(
+                bytes[start..start + 2 * w]
+                    .chunks_exact(2)
+                    .map(|c| u16::from_ne_bytes([c[0], c[1]])),
+            );
+        }
+        out
+    };
+    Frame {
+        gray,
+        depth: read16(l.depth_offset()),
+        ids: read16(l.ids_offset()),
+    }
+}
+
+fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::BindGroup) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("scene.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
+    });
+    let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("frame uniforms"),
+        size: std::mem::size_of::<FrameUniforms>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("frame"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("frame"),
+        layout: &bgl,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniforms.as_entire_binding(),
+        }],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("scene"),
+        bind_group_layouts: &[Some(&bgl)],
+        immediate_size: 0,
+    });
+    let gray = Some(wgpu::ColorTargetState {
+        format: GRAY_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    });
+    let truth = Some(wgpu::ColorTargetState {
+        format: TRUTH_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    });
+    let make = |entry: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
+        create_pipeline(device, &module, &layout, entry, targets, samples)
+    };
+    let pipelines = Pipelines {
+        all: make("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
+        gray_msaa4: make("fs_gray", &[gray], 4),
+        truth: make("fs_truth", &[truth.clone(), truth], 1),
+    };
+    (pipelines, uniforms, bind_group)
+}
+
+fn create_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    samples: u32,
+) -> wgpu::RenderPipeline {
+    let attributes = wgpu::vertex_attr_array![
+        0 => Float32x3,
+        1 => Float32x4,
+        2 => Float32x4,
+        3 => Uint32x2,
+    ];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(fragment_entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &attributes,
+            })],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: Some(wgpu::Face::Back),
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment_entry),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readback_rows_are_padded_to_256_bytes() {
+        let l = ReadbackLayout::new([500, 3]);
+        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
+        assert_eq!(l.depth_offset(), 512 * 3);
+        assert_eq!(l.total(), 512 * 3 + 2 * 1024 * 3);
+        let l = ReadbackLayout::new([512, 480]);
+        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
+    }
+
+    #[test]
+    fn unpad_drops_padding() {
+        let l = ReadbackLayout::new([3, 2]);
+        let mut bytes = vec![0u8; l.total() as usize];
+        bytes[..3].copy_from_slice(&[1, 2, 3]);
+        bytes[256..259].copy_from_slice(&[4, 5, 6]);
+        let d = l.depth_offset() as usize;
+        bytes[d..d + 2].copy_from_slice(&7u16.to_ne_bytes());
+        let f = unpad(&bytes, [3, 2], &l);
+        assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
+        assert_eq!(f.depth[0], 7);
+        assert_eq!(f.ids, vec![0; 6]);
+    }
+}

@@ -1,0 +1,333 @@
+//! The scene as seen by one camera: block faces as planes and picture polygons, block edges as
+//! 3D segments with their picture segments, and the projection both ways (Chapter II,
+//! eqs. 2.2-2.8, in the camera's matrices).
+
+use crate::geom::{DMat4, DVec2, DVec3, DVec4};
+use crate::render::Camera;
+use crate::scene::{BlockType, Scene};
+
+/// World to picture and back for one camera.
+pub(super) struct Projector {
+    clip_from_world: DMat4,
+    world_from_clip: DMat4,
+    view_from_world: DMat4,
+    size_px: DVec2,
+    orthographic: bool,
+    eye: DVec3,
+    towards_eye: DVec3,
+    right: DVec3,
+}
+
+impl Projector {
+    fn new(camera: &Camera) -> Projector {
+        let clip_from_world = camera.clip_from_world();
+        let view_from_world = camera.view_matrix();
+        let towards_eye = camera.towards_eye();
+        Projector {
+            clip_from_world,
+            world_from_clip: clip_from_world.inverse(),
+            view_from_world,
+            size_px: DVec2::new(camera.size_px[0] as f64, camera.size_px[1] as f64),
+            orthographic: camera.is_orthographic(),
+            eye: camera.eye(),
+            towards_eye,
+            right: DVec3::Y.cross(towards_eye).normalize_or(DVec3::X),
+        }
+    }
+
+    /// Homogeneous clip coordinates of a world point.
+    fn clip(&self, p: DVec3) -> DVec4 {
+        self.clip_from_world * p.extend(1.0)
+    }
+
+    /// Picture px of a world point and its clip w (1 for orthographic cameras).
+    pub fn picture_and_w(&self, p: DVec3) -> (DVec2, f64) {
+        let c = self.clip(p);
+        let ndc = DVec2::new(c.x / c.w, c.y / c.w);
+        ((ndc + DVec2::ONE) * 0.5 * self.size_px, c.w)
+    }
+
+    /// Picture px of a world point.
+    pub fn picture(&self, p: DVec3) -> DVec2 {
+        self.picture_and_w(p).0
+    }
+
+    /// Depth along the optical axis in mm.
+    pub fn depth_mm(&self, p: DVec3) -> f64 {
+        -(self.view_from_world * p.extend(1.0)).z
+    }
+
+    /// The ray through picture point `q`: origin and unit direction away from the eye.
+    pub fn ray(&self, q: DVec2) -> (DVec3, DVec3) {
+        let ndc = q / self.size_px * 2.0 - DVec2::ONE;
+        let unproject = |z: f64| {
+            let p = self.world_from_clip * DVec4::new(ndc.x, ndc.y, z, 1.0);
+            p.truncate() / p.w
+        };
+        let (a, b) = (unproject(0.0), unproject(1.0));
+        (a, (b - a).normalize())
+    }
+
+    /// Picture px per world mm at `p` (across the view).
+    pub fn px_per_mm(&self, p: DVec3) -> f64 {
+        self.picture(p + self.right).distance(self.picture(p))
+    }
+
+    /// Whether a face with outward normal `n` through `p` faces the eye (cosine above 1e-9).
+    fn faces_eye(&self, n: DVec3, p: DVec3) -> bool {
+        let to_eye = if self.orthographic {
+            self.towards_eye
+        } else {
+            (self.eye - p).normalize()
+        };
+        n.dot(to_eye) > 1e-9
+    }
+
+    /// The 3D edge parameter `t` of the point at picture parameter `s` along the projected
+    /// segment whose ends have clip w `wa`, `wb` (perspective division is not linear).
+    pub fn t_from_s(s: f64, wa: f64, wb: f64) -> f64 {
+        let den = (1.0 - s) * wb + s * wa;
+        if den.abs() < 1e-300 {
+            s
+        } else {
+            s * wa / den
+        }
+    }
+
+    /// Inverse of [`Projector::t_from_s`].
+    pub fn s_from_t(t: f64, wa: f64, wb: f64) -> f64 {
+        let den = wa + t * (wb - wa);
+        if den.abs() < 1e-300 {
+            t
+        } else {
+            t * wb / den
+        }
+    }
+}
+
+/// One block face: plane, picture polygon (counter-clockwise), facing.
+pub(super) struct Face {
+    /// Block index in scene order.
+    pub block: usize,
+    /// Outward unit normal, world.
+    pub normal: DVec3,
+    /// Plane offset: `normal . x = offset` on the face.
+    pub offset: f64,
+    /// Picture polygon, counter-clockwise (front faces only; empty otherwise).
+    pub poly: Vec<DVec2>,
+    /// Picture bounds of `poly`.
+    pub lo: DVec2,
+    /// Picture bounds of `poly`.
+    pub hi: DVec2,
+    /// Faces the eye (not edge-on, not turned away).
+    pub front: bool,
+}
+
+impl Face {
+    /// Signed distance of `p` from the plane, positive outside.
+    pub fn plane_distance(&self, p: DVec3) -> f64 {
+        self.normal.dot(p) - self.offset
+    }
+
+    /// Whether picture point `q` lies inside the polygon, boundary within `eps_px` included.
+    pub fn contains_px(&self, q: DVec2, eps_px: f64) -> bool {
+        if q.x < self.lo.x - eps_px
+            || q.y < self.lo.y - eps_px
+            || q.x > self.hi.x + eps_px
+            || q.y > self.hi.y + eps_px
+        {
+            return false;
+        }
+        let n = self.poly.len();
+        (0..n).all(|k| {
+            let (a, b) = (self.poly[k], self.poly[(k + 1) % n]);
+            let e = b - a;
+            e.perp_dot(q - a) >= -eps_px * e.length()
+        })
+    }
+}
+
+/// One block edge.
+pub(super) struct Edge {
+    /// Block index in scene order.
+    pub block: usize,
+    /// Catalog vertex indices.
+    pub vertices: [usize; 2],
+    /// Global indices of its two faces in [`SceneGeometry::faces`].
+    pub faces: [usize; 2],
+    /// World ends.
+    pub a: DVec3,
+    /// World ends.
+    pub b: DVec3,
+    /// Picture ends.
+    pub pa: DVec2,
+    /// Picture ends.
+    pub pb: DVec2,
+    /// Clip w of the ends.
+    pub wa: f64,
+    /// Clip w of the ends.
+    pub wb: f64,
+}
+
+impl Edge {
+    /// World point at edge parameter `t`.
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.a.lerp(self.b, t)
+    }
+
+    /// Whether at least one of its faces is front-facing (otherwise it cannot be seen).
+    pub fn may_show(&self, faces: &[Face]) -> bool {
+        faces[self.faces[0]].front || faces[self.faces[1]].front
+    }
+}
+
+/// Per-block summary.
+pub(super) struct BlockGeometry {
+    /// World bounds.
+    pub lo: DVec3,
+    /// World bounds.
+    pub hi: DVec3,
+    /// Centre height, mm (the "upper block" tie-break).
+    pub centre_y_mm: f64,
+    /// Range of its edges in [`SceneGeometry::edges`].
+    pub edges: std::ops::Range<usize>,
+}
+
+/// Everything the hidden-line removal needs about the scene in one camera.
+pub(super) struct SceneGeometry {
+    /// The projection.
+    pub proj: Projector,
+    /// All faces of all blocks, block by block.
+    pub faces: Vec<Face>,
+    /// All edges of all blocks, block by block.
+    pub edges: Vec<Edge>,
+    /// Per block.
+    pub blocks: Vec<BlockGeometry>,
+    /// Picture px per mm at the scene's centre.
+    pub px_per_mm: f64,
+}
+
+impl SceneGeometry {
+    /// Builds the geometry of `scene` in `camera`.
+    pub fn new(scene: &Scene, camera: &Camera) -> SceneGeometry {
+        let proj = Projector::new(camera);
+        let mut faces = Vec::new();
+        let mut edges = Vec::new();
+        let mut blocks = Vec::new();
+        let mut edge_cache: Vec<(*const BlockType, Vec<(usize, usize, usize, usize)>)> = Vec::new();
+        for (bi, block) in scene.blocks.iter().enumerate() {
+            let bt = block.block_type;
+            let verts = block.world_vertices();
+            let first_face = faces.len();
+            for (fi, face) in bt.faces.iter().enumerate() {
+                let normal = block.world_face_normal(fi);
+                let p0 = verts[face[0] as usize];
+                let front = proj.faces_eye(normal, p0);
+                let mut poly: Vec<DVec2> = if front {
+                    face.iter()
+                        .map(|&v| proj.picture(verts[v as usize]))
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                if signed_area(&poly) < 0.0 {
+                    poly.reverse();
+                }
+                let (lo, hi) = bounds2(&poly);
+                faces.push(Face {
+                    block: bi,
+                    normal,
+                    offset: normal.dot(p0),
+                    poly,
+                    lo,
+                    hi,
+                    front,
+                });
+            }
+            let key = bt as *const BlockType;
+            let cached = match edge_cache.iter().position(|(k, _)| *k == key) {
+                Some(i) => i,
+                None => {
+                    edge_cache.push((key, bt.edges()));
+                    edge_cache.len() - 1
+                }
+            };
+            let first_edge = edges.len();
+            for &(i, j, fl, fr) in &edge_cache[cached].1 {
+                let (a, b) = (verts[i], verts[j]);
+                let ((pa, wa), (pb, wb)) = (proj.picture_and_w(a), proj.picture_and_w(b));
+                edges.push(Edge {
+                    block: bi,
+                    vertices: [i, j],
+                    faces: [first_face + fl, first_face + fr],
+                    a,
+                    b,
+                    pa,
+                    pb,
+                    wa,
+                    wb,
+                });
+            }
+            let (lo, hi) = verts.iter().fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), v| (lo.min(*v), hi.max(*v)),
+            );
+            blocks.push(BlockGeometry {
+                lo,
+                hi,
+                centre_y_mm: block.center_mm.y,
+                edges: first_edge..edges.len(),
+            });
+        }
+        let centre = DVec3::from_array(camera.target_mm);
+        let px_per_mm = proj.px_per_mm(centre);
+        SceneGeometry {
+            proj,
+            faces,
+            edges,
+            blocks,
+            px_per_mm,
+        }
+    }
+
+    /// The nearest front face hit by the ray through picture point `q`, with the hit point.
+    pub fn first_hit(&self, q: DVec2) -> Option<(usize, DVec3)> {
+        let (o, d) = self.proj.ray(q);
+        let mut best: Option<(usize, DVec3, f64)> = None;
+        for (fi, f) in self.faces.iter().enumerate() {
+            if !f.front || !f.contains_px(q, 0.0) {
+                continue;
+            }
+            let den = f.normal.dot(d);
+            if den.abs() < 1e-12 {
+                continue;
+            }
+            let t = (f.offset - f.normal.dot(o)) / den;
+            if best.is_none_or(|(_, _, bt)| t < bt) {
+                best = Some((fi, o + d * t, t));
+            }
+        }
+        best.map(|(fi, p, _)| (fi, p))
+    }
+
+    /// Whether blocks `a` and `b` are within `gap_mm` of each other (bounding boxes).
+    pub fn blocks_near(&self, a: usize, b: usize, gap_mm: f64) -> bool {
+        let (x, y) = (&self.blocks[a], &self.blocks[b]);
+        (0..3).all(|k| x.lo[k] <= y.hi[k] + gap_mm && y.lo[k] <= x.hi[k] + gap_mm)
+    }
+}
+
+fn signed_area(poly: &[DVec2]) -> f64 {
+    let n = poly.len();
+    (0..n)
+        .map(|k| poly[k].perp_dot(poly[(k + 1) % n]))
+        .sum::<f64>()
+        / 2.0
+}
+
+fn bounds2(poly: &[DVec2]) -> (DVec2, DVec2) {
+    poly.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}

@@ -1,0 +1,95 @@
+//! The exact visible line drawing of a scene in a camera, by hidden-line removal on the block
+//! polyhedra (not from pixels): the ground truth `lines_<view>.json` of issue #2, in the
+//! vocabulary of Chapter IV (lines, junctions, six-bit codes) and Kanade's labels (Chapter II).
+//!
+//! ## Algorithm
+//! 1. **Scene geometry** (`geometry`): every block face as a plane and a picture polygon; a face
+//!    is *front-facing* when the eye is on its outer side (faces seen exactly edge-on are
+//!    neither front nor back and hide nothing).
+//! 2. **Visibility** (`visibility`): each block edge with at least one front-facing face is
+//!    clipped against every front-facing face of the other blocks: the 2D overlap of the edge
+//!    with the face's picture polygon (a closed polygon, so an edge lying on a silhouette counts
+//!    as behind it) is intersected with the part of the edge that lies behind the face's plane by
+//!    more than [`TruthTolerances::contact_mm`]. What is left are exact parameter intervals of
+//!    the 3D edge, so T junctions come out exact. A face whose plane contains the edge never
+//!    hides it.
+//! 3. **Kinds** (`classify`): each visible interval is cut where another block's edge or vertex
+//!    touches it (within [`TruthTolerances::seam_mm`]), then every piece is classified by
+//!    casting one ray on each side of its midpoint, [`TruthTolerances::sample_offset_mm`] away:
+//!    background or a distant surface on one side makes it a boundary; the same plane of two
+//!    blocks on both sides a crack; two planes meeting at the edge a convex or concave line
+//!    (a contact when they belong to different blocks).
+//! 4. **Assembly** (`assemble`): coincident pieces (a lower block's top edge under the flush
+//!    bottom edge of the block above, an edge hidden exactly behind a silhouette) are kept once;
+//!    line ends closer than the snap distance become one point; a line is split where another
+//!    line ends on its interior (the T junctions); codes and junctions come from
+//!    [`LineDrawing::finalize`].
+//!
+//! ## Contact policy
+//! Settled poses are not flush (`shared/notes/ground-truth.md`). Faces parallel within
+//! [`TruthTolerances::parallel_deg`] and within [`TruthTolerances::seam_mm`] of each other
+//! count as one surface, and a face hides nothing closer than [`TruthTolerances::contact_mm`]
+//! ([`crate::geom::CONTACT_TOL_MM`]). `seam_mm` is twice the contact tolerance because two
+//! neighbours may each be off flush by up to `CONTACT_TOL_MM`. Points and lines closer in the
+//! picture than `seam_mm` projected (or [`TruthTolerances::merge_px`], whichever is larger)
+//! are one: no line of a grid scene is that short.
+
+mod assemble;
+mod classify;
+mod geometry;
+mod visibility;
+
+use super::Camera;
+use crate::drawing::LineDrawing;
+use crate::geom::CONTACT_TOL_MM;
+use crate::scene::Scene;
+
+/// The tolerances of the hidden-line removal, all named (style.md habit 4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthTolerances {
+    /// A face hides an edge point only if the point lies more than this behind the face's plane,
+    /// in mm; default [`CONTACT_TOL_MM`] (0.05 mm), so touching faces never hide each other.
+    pub contact_mm: f64,
+    /// Surfaces and edges of different blocks closer than this count as one seam, in mm;
+    /// default `2 * CONTACT_TOL_MM` (each neighbour may be off flush by `CONTACT_TOL_MM`).
+    pub seam_mm: f64,
+    /// Faces whose normals differ by less than this are parallel, in degrees; default 0.5.
+    pub parallel_deg: f64,
+    /// Line ends closer than this in the picture are always one point, in px; default 0.01
+    /// (`shared/notes/ground-truth.md`).
+    pub merge_px: f64,
+    /// How far beside a line the classifying rays look, in mm; default 0.3 (larger than any
+    /// seam gap, far smaller than a block).
+    pub sample_offset_mm: f64,
+}
+
+impl Default for TruthTolerances {
+    fn default() -> Self {
+        TruthTolerances {
+            contact_mm: CONTACT_TOL_MM,
+            seam_mm: 2.0 * CONTACT_TOL_MM,
+            parallel_deg: 0.5,
+            merge_px: 0.01,
+            sample_offset_mm: 0.3,
+        }
+    }
+}
+
+/// The visible line drawing of `scene` seen by `camera`, in picture px (x right, y up, origin at
+/// the bottom-left corner), with every line's kind and 3D edge, and every point's six-bit code
+/// (Chapter IV) and junction class (Chapter V, Figure 5.1). Uses [`TruthTolerances::default`].
+pub fn visible_line_drawing(scene: &Scene, camera: &Camera) -> LineDrawing {
+    visible_line_drawing_with_tolerances(scene, camera, &TruthTolerances::default())
+}
+
+/// [`visible_line_drawing`] with explicit tolerances.
+pub fn visible_line_drawing_with_tolerances(
+    scene: &Scene,
+    camera: &Camera,
+    tol: &TruthTolerances,
+) -> LineDrawing {
+    let geo = geometry::SceneGeometry::new(scene, camera);
+    let intervals = visibility::visible_intervals(&geo, tol);
+    let pieces = classify::classify_pieces(&geo, &intervals, tol);
+    assemble::assemble_drawing(&geo, pieces, tol)
+}
