@@ -81,7 +81,8 @@ fn hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     let mut lower: Vec<DVec2> = Vec::new();
     for &p in &pts {
         while lower.len() >= 2
-            && (lower[lower.len() - 1] - lower[lower.len() - 2]).perp_dot(p - lower[lower.len() - 2])
+            && (lower[lower.len() - 1] - lower[lower.len() - 2])
+                .perp_dot(p - lower[lower.len() - 2])
                 <= 0.0
         {
             lower.pop();
@@ -91,7 +92,8 @@ fn hull(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     let mut upper: Vec<DVec2> = Vec::new();
     for &p in pts.iter().rev() {
         while upper.len() >= 2
-            && (upper[upper.len() - 1] - upper[upper.len() - 2]).perp_dot(p - upper[upper.len() - 2])
+            && (upper[upper.len() - 1] - upper[upper.len() - 2])
+                .perp_dot(p - upper[upper.len() - 2])
                 <= 0.0
         {
             upper.pop();
@@ -124,7 +126,9 @@ fn golden_images_of_every_example_scene() {
                 .filter(|l| !EXACT_LEVELS.contains(l))
                 .collect();
             if !stray.is_empty() {
-                failures.push(format!("{name}: gray levels {stray:?} outside {EXACT_LEVELS:?}"));
+                failures.push(format!(
+                    "{name}: gray levels {stray:?} outside {EXACT_LEVELS:?}"
+                ));
             }
         }
     }
@@ -211,7 +215,11 @@ fn single_cube_top_left_right_and_floor_have_distinct_levels_in_every_view() {
             );
             levels.push(found[k][0]);
         }
-        assert_eq!(levels, vec![210, 150, 100, 60], "{view:?} top/left/right/floor");
+        assert_eq!(
+            levels,
+            vec![210, 150, 100, 60],
+            "{view:?} top/left/right/floor"
+        );
     }
 }
 
@@ -231,9 +239,21 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
     );
     // The crack lies in the plane x = 0: across the top and down the north and south faces.
     let cracks = [
-        (DVec3::new(0.0, 15.0, -7.5), DVec3::new(0.0, 15.0, 7.5), DVec3::Y),
-        (DVec3::new(0.0, 0.0, -7.5), DVec3::new(0.0, 15.0, -7.5), -DVec3::Z),
-        (DVec3::new(0.0, 0.0, 7.5), DVec3::new(0.0, 15.0, 7.5), DVec3::Z),
+        (
+            DVec3::new(0.0, 15.0, -7.5),
+            DVec3::new(0.0, 15.0, 7.5),
+            DVec3::Y,
+        ),
+        (
+            DVec3::new(0.0, 0.0, -7.5),
+            DVec3::new(0.0, 15.0, -7.5),
+            -DVec3::Z,
+        ),
+        (
+            DVec3::new(0.0, 0.0, 7.5),
+            DVec3::new(0.0, 15.0, 7.5),
+            DVec3::Z,
+        ),
     ];
     for view in CornerView::ALL {
         let opts = RenderOptions::default();
@@ -260,7 +280,10 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
                     .iter()
                     .map(|(s, e)| dist_to_segment(p, *s, *e))
                     .fold(f64::INFINITY, f64::min);
-                assert!(d <= 0.75, "{view:?}: pixel ({x}, {row}) differs {d:.2} px from any crack");
+                assert!(
+                    d <= 0.75,
+                    "{view:?}: pixel ({x}, {row}) differs {d:.2} px from any crack"
+                );
                 assert_eq!(a.gray.get_pixel(x, row)[0], SEAM_LEVEL);
             }
         }
@@ -288,7 +311,10 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
                 let ga = a.gray.get_pixel(nearest.0, nearest.1)[0];
                 let gb = b.gray.get_pixel(nearest.0, nearest.1)[0];
                 assert_eq!(ga, SEAM_LEVEL, "{view:?}: two b15, crack at {p:?}");
-                assert!([210, 150, 100].contains(&gb), "{view:?}: one b30 at {p:?}: {gb}");
+                assert!(
+                    [210, 150, 100].contains(&gb),
+                    "{view:?}: one b30 at {p:?}: {gb}"
+                );
                 t += 1.0;
             }
         }
@@ -393,7 +419,12 @@ fn depth_and_ids_match_an_exact_ray_cast_orthographic_perspective_and_odd_sizes(
             [333, 97],
             Projection::Perspective { fov_y_deg: 40.0 },
         ),
-        (sample.clone(), CornerView::Se, [300, 200], Projection::Orthographic),
+        (
+            sample.clone(),
+            CornerView::Se,
+            [300, 200],
+            Projection::Orthographic,
+        ),
         (
             sample,
             CornerView::Nw,
@@ -409,8 +440,8 @@ fn depth_and_ids_match_an_exact_ray_cast_orthographic_perspective_and_odd_sizes(
         assert_eq!(v.gray.dimensions(), (size_px[0], size_px[1]));
         check_depth_and_ids(&scene, &v);
         // The projected centre of block 1's top face shows block 1, lit as a top face.
-        let top = scene.blocks[0].center_mm
-            + DVec3::Y * scene.blocks[0].block_type.size_mm().y / 2.0;
+        let top =
+            scene.blocks[0].center_mm + DVec3::Y * scene.blocks[0].block_type.size_mm().y / 2.0;
         let p = project(&v.camera, top);
         let [x, row] = raster(&v, p);
         if scene.blocks.len() == 1 {
@@ -450,7 +481,10 @@ fn noise_is_deterministic_in_the_seed() {
     let n = diffs.len() as f64;
     let mean = diffs.iter().sum::<f64>() / n;
     let sd = (diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / n).sqrt();
-    assert!(mean.abs() < 0.1 && (sd - 4.0).abs() < 0.2, "mean {mean}, sd {sd}");
+    assert!(
+        mean.abs() < 0.1 && (sd - 4.0).abs() < 0.2,
+        "mean {mean}, sd {sd}"
+    );
 }
 
 #[test]
@@ -517,7 +551,10 @@ fn one_renderer_serves_many_threads_with_the_same_pixels() {
         .par_iter()
         .map(|(i, v)| r.render_pixels(&scenes[*i], *v, &opts).unwrap().gray)
         .collect();
-    assert!(serial == parallel, "parallel renders differ from serial ones");
+    assert!(
+        serial == parallel,
+        "parallel renders differ from serial ones"
+    );
 }
 
 #[test]
@@ -552,7 +589,10 @@ fn bad_options_are_errors_not_panics() {
     for opts in bad {
         match r.render(&scene, CornerView::Ne, &opts) {
             Err(RenderError::Options(msg)) => assert!(!msg.is_empty()),
-            other => panic!("expected an options error for {opts:?}, got {:?}", other.map(|_| ())),
+            other => panic!(
+                "expected an options error for {opts:?}, got {:?}",
+                other.map(|_| ())
+            ),
         }
     }
     // The renderer still works afterwards.

@@ -102,7 +102,7 @@ fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 }
 
 /// Draws `boxes` as the camera sees them: flat faces (top 200, x faces 140, z faces 90, floor and
-/// background 40) with 1 px dark seams (20) along the visible faces' edges, plus Gaussian noise.
+/// background 70) with 1 px dark seams (20) along the visible faces' edges, plus Gaussian noise.
 fn draw(boxes: &[Aabb], camera: &Camera, noise_sigma: f64, seed: u64) -> GrayImage {
     let [w, h] = camera.size_px;
     let proj = |p: DVec3| camera.picture_from_world(p).truncate();
@@ -144,7 +144,7 @@ fn draw(boxes: &[Aabb], camera: &Camera, noise_sigma: f64, seed: u64) -> GrayIma
                 if all_edges.iter().any(|(a, b)| seg_dist(p, *a, *b) <= 0.5) {
                     20.0
                 } else {
-                    40.0
+                    70.0
                 }
             }
         };

@@ -375,16 +375,18 @@ fn fit_segment(points: &[DVec2], k: usize, u: DVec2, max_turn_deg: f64) -> Optio
 }
 
 /// Refines lines that sit on a dark seam (the renderer draws ~1 px dark lines along block
-/// edges): the band of the edge map is lopsided when the faces on the two sides differ in
-/// brightness, so its centre can miss the seam by most of a pixel. For each line, the gray
-/// profile across it (pixels within `band_half_width_px + 1.5` px) is examined; when it has a
-/// valley at least `min_seam_contrast` gray levels below both sides, the line is re-fitted by
-/// least squares on the valley's pixels weighted by their darkness. Lines without a valley
-/// (a plain step between faces, where the band is symmetric) are kept as they are.
+/// edges between faces): the edge map's band is lopsided when the faces on the two sides differ
+/// in brightness, so its centre can miss the seam by most of a pixel. A pixel within
+/// `SEAM_SEARCH_PX` of the line is a seam pixel when it is darker, by at least
+/// [`MIN_SEAM_CONTRAST`] gray levels, than both pixels `SEAM_SIDE_PX` away across the line (a
+/// local test, so faces that change along the line do not matter). When seam pixels cover at
+/// least half the line's length, the line is re-fitted by least squares on them, weighted by
+/// their darkness. Other lines (a plain step, e.g. a silhouette against the background, whose
+/// band is symmetric) are kept as they are.
 pub fn refine_lines_on_seams(
     gray: &GrayImage,
     lines: &[FittedLine],
-    opts: &LineOptions,
+    _opts: &LineOptions,
 ) -> Vec<FittedLine> {
     let mut samples: Vec<(f64, f64, DVec2)> = Vec::new();
     let mut pts: Vec<DVec2> = Vec::new();
@@ -392,15 +394,30 @@ pub fn refine_lines_on_seams(
     lines
         .iter()
         .map(|l| {
-            let reach = opts.band_half_width_px + 1.5;
-            band_samples(gray, l, reach, &mut samples);
-            refine_one(l, &samples, reach, &mut pts, &mut weights).unwrap_or(*l)
+            band_samples(gray, l, SEAM_SEARCH_PX, &mut samples);
+            refine_one(gray, l, &samples, &mut pts, &mut weights).unwrap_or(*l)
         })
         .collect()
 }
 
-/// Minimum valley depth, gray levels, for [`refine_lines_on_seams`].
-const MIN_SEAM_CONTRAST: f64 = 12.0;
+/// Minimum local darkness of a seam pixel, gray levels (the renderer's seams are 35 against
+/// faces of 100 and more; sensor noise of sigma 8 rarely reaches this).
+pub const MIN_SEAM_CONTRAST: f64 = 30.0;
+/// Seam pixels are looked for this close to the band's line, px.
+const SEAM_SEARCH_PX: f64 = 2.5;
+/// A seam pixel is compared with the pixels this far away on either side, px.
+const SEAM_SIDE_PX: f64 = 2.0;
+
+/// Gray level at picture point `p` (nearest pixel), `None` outside the picture.
+fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
+    let (w, h) = gray.dimensions();
+    let (x, y) = (p.x.floor(), p.y.floor());
+    if x < 0.0 || y < 0.0 || x >= f64::from(w) || y >= f64::from(h) {
+        return None;
+    }
+    let row = h as usize - 1 - y as usize;
+    Some(f64::from(gray.as_raw()[row * w as usize + x as usize]))
+}
 
 /// Pixels within `reach` px of the line, between its ends: `(offset, gray, point)`.
 fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64, f64, DVec2)>) {
@@ -451,44 +468,31 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
 }
 
 fn refine_one(
+    gray: &GrayImage,
     l: &FittedLine,
     samples: &[(f64, f64, DVec2)],
-    reach: f64,
     pts: &mut Vec<DVec2>,
     weights: &mut Vec<f64>,
 ) -> Option<FittedLine> {
-    const BIN: f64 = 0.5;
-    let bins = (2.0 * reach / BIN).ceil() as usize + 1;
-    let mut sum = vec![0.0; bins];
-    let mut cnt = vec![0.0; bins];
-    for &(d, g, _) in samples {
-        let b = (((d + reach) / BIN) as usize).min(bins - 1);
-        sum[b] += g;
-        cnt[b] += 1.0;
-    }
-    let mean = |b: usize| (cnt[b] > 0.0).then(|| sum[b] / cnt[b]);
-    let side = |range: std::ops::Range<usize>| {
-        let v: Vec<f64> = range.filter_map(mean).collect();
-        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
-    };
-    let edge_bins = (1.5 / BIN) as usize;
-    let left = side(0..edge_bins)?;
-    let right = side(bins - edge_bins..bins)?;
-    let (vb, vmin) = (edge_bins..bins - edge_bins)
-        .filter_map(|b| mean(b).map(|m| (b, m)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    let floor_level = left.min(right);
-    if floor_level - vmin < MIN_SEAM_CONTRAST {
-        return None;
-    }
-    let d_valley = vb as f64 * BIN - reach + BIN / 2.0;
+    let n = l.direction.perp();
     pts.clear();
     weights.clear();
-    for &(d, g, p) in samples {
-        if (d - d_valley).abs() <= 1.5 && g < floor_level {
+    for &(_, g, p) in samples {
+        let a = gray_at(gray, p + n * SEAM_SIDE_PX);
+        let b = gray_at(gray, p - n * SEAM_SIDE_PX);
+        let (Some(a), Some(b)) = (a, b) else { continue };
+        let darkness = a.min(b) - g;
+        if darkness >= MIN_SEAM_CONTRAST {
             pts.push(p);
-            weights.push(floor_level - g);
+            weights.push(darkness);
         }
+    }
+    // Seam pixels must cover at least half the line (counted along it, one per px).
+    let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
+    along.sort_unstable();
+    along.dedup();
+    if (along.len() as f64) < 0.5 * l.length_px() {
+        return None;
     }
     let (c, mut dir) = fit_line_weighted(pts, weights)?;
     if dir.dot(l.direction) < 0.0 {

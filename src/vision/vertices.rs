@@ -98,6 +98,45 @@ struct Candidate {
 /// lines split at vertices on their interior, then [`LineDrawing::finalize`] computes each
 /// vertex's six-bit code (Chapter IV bit order) and junction class. Deterministic.
 pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
+    let kept = drop_junction_blobs(lines, opts);
+    build_drawing(&kept, opts)
+}
+
+/// Drops short segments that sit inside a junction of other lines: shorter than twice the join
+/// radius, with two other (non-parallel) lines meeting within the join radius of its midpoint.
+/// Under sensor noise the edge pixels at an arrow or fork junction can line up into such a
+/// stub, which would pull the vertex off the corner.
+fn drop_junction_blobs(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLine> {
+    let inside_junction = |i: usize| {
+        let s = &lines[i];
+        if s.length_px() >= 2.0 * opts.join_radius_px {
+            return false;
+        }
+        let mid = (s.from_px + s.to_px) / 2.0;
+        let near = |l: &FittedLine| {
+            l.signed_distance_px(mid).abs() <= opts.join_radius_px && l.length_px() > s.length_px()
+        };
+        let others: Vec<&FittedLine> = lines
+            .iter()
+            .enumerate()
+            .filter(|&(j, l)| j != i && l.orientation != s.orientation && near(l))
+            .map(|(_, l)| l)
+            .collect();
+        others.iter().enumerate().any(|(a, la)| {
+            others[a + 1..].iter().any(|lb| {
+                la.orientation != lb.orientation
+                    && intersect(la, lb).is_some_and(|p| p.distance(mid) <= opts.join_radius_px)
+            })
+        })
+    };
+    (0..lines.len())
+        .filter(|&i| !inside_junction(i))
+        .map(|i| lines[i])
+        .collect()
+}
+
+/// Builds the drawing from the kept lines (see [`find_vertices`]).
+fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
     let ends = |l: &FittedLine| [l.from_px, l.to_px];
     // 1. Candidates: intersections near a segment end and on (or near) the other segment.
     let mut cands: Vec<Candidate> = Vec::new();
@@ -162,6 +201,22 @@ pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing 
         .iter()
         .map(|(ls, ps)| nearest_point(lines, ls, ps))
         .collect();
+    // 3b. Crossings: two lines passing through each other away from their ends (an X
+    // junction, e.g. where the cracks between four flush blocks meet) are a vertex too.
+    for (i, a) in lines.iter().enumerate() {
+        for b in &lines[i + 1..] {
+            let Some(p) = intersect(a, b) else { continue };
+            let inside = |l: &FittedLine| {
+                let t = l.along_px(p);
+                t > l.along_px(l.from_px) + opts.join_radius_px
+                    && t < l.along_px(l.to_px) - opts.join_radius_px
+            };
+            if inside(a) && inside(b) && points.iter().all(|q| q.distance(p) > opts.merge_radius_px)
+            {
+                points.push(p);
+            }
+        }
+    }
     // 4. Attach vertices to lines: at an end (candidate of that end), or on the interior.
     let mut on_line: Vec<Vec<(f64, usize)>> = vec![Vec::new(); lines.len()];
     let mut end_vertex: Vec<Option<usize>> = vec![None; lines.len() * 2];

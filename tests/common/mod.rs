@@ -125,7 +125,11 @@ pub fn compare_golden(name: &str, actual: &GrayImage, tol: Tolerance) -> Result<
 }
 
 /// Writes the actual image and an amplified difference image under `target/golden-diff/`.
-fn write_failure(name: &str, actual: &GrayImage, expected: Option<&GrayImage>) -> (PathBuf, PathBuf) {
+fn write_failure(
+    name: &str,
+    actual: &GrayImage,
+    expected: Option<&GrayImage>,
+) -> (PathBuf, PathBuf) {
     let dir = root().join("target/golden-diff");
     let actual_path = dir.join(format!("{name}-actual.png"));
     let diff_path = dir.join(format!("{name}-diff.png"));
@@ -134,7 +138,11 @@ fn write_failure(name: &str, actual: &GrayImage, expected: Option<&GrayImage>) -
     if let Some(e) = expected {
         let diff = GrayImage::from_fn(actual.width(), actual.height(), |x, y| {
             let d = actual.get_pixel(x, y)[0].abs_diff(e.get_pixel(x, y)[0]);
-            Luma([if d == 0 { 0 } else { 64u8.saturating_add(d.saturating_mul(4)) }])
+            Luma([if d == 0 {
+                0
+            } else {
+                64u8.saturating_add(d.saturating_mul(4))
+            }])
         });
         diff.save(&diff_path).unwrap();
     }
