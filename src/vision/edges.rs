@@ -71,20 +71,43 @@ pub fn sobel_magnitude(image: &GrayImage) -> MagnitudeImage {
             &src[yb * wu..][..wu],
         );
         let row = &mut out[y * wu..][..wu];
-        for x in 0..wu {
+        // Border columns repeat the edge pixel.
+        for x in [0, wu - 1] {
             let (xa, _, xb) = around(x, wu);
-            let p = |row: &[u8], i: usize| i32::from(row[i]);
-            // dx: right column minus left column (Figure 2.7, left kernel).
-            let dx =
-                (p(ra, xb) + 2 * p(r, xb) + p(rb, xb)) - (p(ra, xa) + 2 * p(r, xa) + p(rb, xa));
-            // dy: top row minus bottom row (Figure 2.7, right kernel).
-            let dy =
-                (p(ra, xa) + 2 * p(ra, x) + p(ra, xb)) - (p(rb, xa) + 2 * p(rb, x) + p(rb, xb));
-            let m2 = (dx * dx + dy * dy) as f32;
-            row[x] = m2.sqrt().round() as u16;
+            row[x] = sobel_at(
+                [ra[xa], ra[x], ra[xb]],
+                [r[xa], r[xb]],
+                [rb[xa], rb[x], rb[xb]],
+            );
+        }
+        // Interior: fixed 3-wide windows, no clamping, no bounds checks in the loop.
+        if wu >= 3 {
+            let windows = ra
+                .windows(3)
+                .zip(r.windows(3))
+                .zip(rb.windows(3))
+                .zip(row[1..wu - 1].iter_mut());
+            for (((a, m), b), o) in windows {
+                *o = sobel_at([a[0], a[1], a[2]], [m[0], m[2]], [b[0], b[1], b[2]]);
+            }
         }
     }
     MagnitudeImage::from_raw(w, h, out).unwrap_or_default()
+}
+
+/// Eq. 2.1 on one 3x3 neighbourhood: the row above, the left and right neighbours, the row
+/// below (the centre pixel has weight 0 in both kernels).
+#[inline(always)]
+fn sobel_at(above: [u8; 3], sides: [u8; 2], below: [u8; 3]) -> u16 {
+    let v = |x: u8| i32::from(x);
+    // dx: right column minus left column (Figure 2.7, left kernel).
+    let dx = (v(above[2]) + 2 * v(sides[1]) + v(below[2]))
+        - (v(above[0]) + 2 * v(sides[0]) + v(below[0]));
+    // dy: top row minus bottom row (Figure 2.7, right kernel).
+    let dy = (v(above[0]) + 2 * v(above[1]) + v(above[2]))
+        - (v(below[0]) + 2 * v(below[1]) + v(below[2]));
+    // `+ 0.5` then truncation rounds half up (the value is never negative) without a libm call.
+    (((dx * dx + dy * dy) as f32).sqrt() + 0.5) as u16
 }
 
 /// The 3x3 mean of `magnitude` (Chapter VI: "replacing the value of every pixel with the average
@@ -99,28 +122,43 @@ pub fn smooth_3x3(magnitude: &MagnitudeImage, window: SmoothWindow) -> Magnitude
         return MagnitudeImage::from_raw(w, h, out).unwrap_or_default();
     }
     let src = magnitude.as_raw();
-    // Horizontal 3-sums of one row, reused for every output row (one allocation per image).
-    let mut sums = vec![0u32; wu * 3];
-    let row_sums = |y: usize, dst: &mut [u32]| {
-        let r = &src[y * wu..][..wu];
-        for (x, d) in dst.iter_mut().enumerate() {
-            let (a, b, c) = match window {
-                SmoothWindow::Centred => around(x, wu),
-                SmoothWindow::Trailing => (x.saturating_sub(2), x.saturating_sub(1), x),
-            };
-            *d = u32::from(r[a]) + u32::from(r[b]) + u32::from(r[c]);
+    // Pass 1: horizontal 3-sums of every row (at most 3 * 1443, fits u16).
+    let mut sums = vec![0u16; wu * hu];
+    for (r, dst) in src.chunks_exact(wu).zip(sums.chunks_exact_mut(wu)) {
+        let at = |i: usize| r[i];
+        for x in [0, 1, wu - 1] {
+            if x < wu {
+                let (a, b, c) = match window {
+                    SmoothWindow::Centred => around(x, wu),
+                    SmoothWindow::Trailing => (x.saturating_sub(2), x.saturating_sub(1), x),
+                };
+                dst[x] = at(a) + at(b) + at(c);
+            }
         }
-    };
+        if wu >= 3 {
+            let body = r.windows(3).map(|t| t[0] + t[1] + t[2]);
+            match window {
+                // Centred: column x sums x-1..=x+1, for x in 1..w-1.
+                SmoothWindow::Centred => dst[1..wu - 1]
+                    .iter_mut()
+                    .zip(body)
+                    .for_each(|(d, v)| *d = v),
+                // Trailing: column x sums x-2..=x, for x in 2..w.
+                SmoothWindow::Trailing => dst[2..].iter_mut().zip(body).for_each(|(d, v)| *d = v),
+            }
+        }
+    }
+    // Pass 2: vertical 3-sums, rounded mean.
     for y in 0..hu {
         let (ya, _, yb) = around(y, hu);
-        let (s0, rest) = sums.split_at_mut(wu);
-        let (s1, s2) = rest.split_at_mut(wu);
-        row_sums(ya, s0);
-        row_sums(y, s1);
-        row_sums(yb, s2);
+        let (a, m, b) = (
+            &sums[ya * wu..][..wu],
+            &sums[y * wu..][..wu],
+            &sums[yb * wu..][..wu],
+        );
         let row = &mut out[y * wu..][..wu];
-        for x in 0..wu {
-            row[x] = ((s0[x] + s1[x] + s2[x] + 4) / 9) as u16;
+        for (((o, &a), &m), &b) in row.iter_mut().zip(a).zip(m).zip(b) {
+            *o = ((u32::from(a) + u32::from(m) + u32::from(b) + 4) / 9) as u16;
         }
     }
     MagnitudeImage::from_raw(w, h, out).unwrap_or_default()
