@@ -175,7 +175,7 @@ pub fn threshold(smoothed: &MagnitudeImage, threshold: u16) -> GrayImage {
     GrayImage::from_raw(w, h, out).unwrap_or_default()
 }
 
-/// Steps 1 of the front end in one call: Sobel, smoothing, threshold. Returns the smoothed
+/// Step 1 of the front end in one call: Sobel, smoothing, threshold. Returns the smoothed
 /// magnitude and the binary edge map (values 0 and 1).
 pub fn detect_edges(image: &GrayImage, opts: &EdgeOptions) -> (MagnitudeImage, GrayImage) {
     let smoothed = smooth_3x3(&sobel_magnitude(image), opts.window);
