@@ -9,7 +9,7 @@ use blockworld::geom::{DVec2, DVec3};
 use blockworld::render::{Camera, CameraOptions, CornerView};
 use blockworld::vision::{
     decode_gray, detect_line_drawing, detect_with_directions, match_vertices, picture_directions,
-    VisionError, VisionOptions,
+    EdgeDirection, VisionError, VisionOptions,
 };
 use image::{GrayImage, Luma};
 use rand::{Rng, SeedableRng};
@@ -339,7 +339,8 @@ fn crc32(bytes: &[u8]) -> u32 {
 #[test]
 fn random_small_pictures_never_panic() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+    let dirs =
+        [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)].map(EdgeDirection::Parallel);
     for i in 0..400 {
         let (w, h) = (rng.random_range(0..48u32), rng.random_range(0..48u32));
         let img = match i % 4 {

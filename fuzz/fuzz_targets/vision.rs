@@ -6,7 +6,7 @@
 #![no_main]
 
 use blockworld::geom::DVec2;
-use blockworld::vision::{decode_gray, detect_with_directions, VisionOptions};
+use blockworld::vision::{decode_gray, detect_with_directions, EdgeDirection, VisionOptions};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -16,7 +16,7 @@ fuzz_target!(|data: &[u8]| {
     if pic.gray.width() > 1024 || pic.gray.height() > 1024 {
         return;
     }
-    let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+    let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)].map(EdgeDirection::Parallel);
     let det = detect_with_directions(&pic.gray, &dirs, &VisionOptions::default());
     assert_eq!(det.drawing.codes.len(), det.drawing.points.len());
 });

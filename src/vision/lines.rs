@@ -122,6 +122,69 @@ pub fn picture_directions(camera: &Camera) -> [DVec2; 3] {
     ]
 }
 
+/// How the block edges along one world axis run in the picture: all parallel (orthographic
+/// views) or converging on a vanishing point (perspective views; Chapter II's one-point and
+/// three-point perspective, Figures 2.8-2.9).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EdgeDirection {
+    /// Every edge runs along this unit picture direction (pointing up or right).
+    Parallel(DVec2),
+    /// Every edge lies on a line through this vanishing point, picture px.
+    Vanishing(DVec2),
+}
+
+impl EdgeDirection {
+    /// The unit picture direction of an edge through `p`, pointing up or right.
+    pub fn at(&self, p: DVec2) -> DVec2 {
+        let v = match *self {
+            EdgeDirection::Parallel(u) => u,
+            EdgeDirection::Vanishing(vp) => (p - vp).normalize_or_zero(),
+        };
+        if v.y < 0.0 || (v.y == 0.0 && v.x < 0.0) {
+            -v
+        } else {
+            v
+        }
+    }
+
+    /// Coordinates for the vote: `rho` tells lines of this direction apart (px across, or the
+    /// angle about the vanishing point times `radius_px`), `t` orders pixels along a line.
+    fn vote_coordinates(&self, p: DVec2, axis: DVec2, radius_px: f64) -> (f64, f64) {
+        match *self {
+            EdgeDirection::Parallel(u) => (u.perp().dot(p), u.dot(p)),
+            EdgeDirection::Vanishing(vp) => {
+                let q = p - vp;
+                (axis.perp_dot(q).atan2(axis.dot(q)) * radius_px, q.length())
+            }
+        }
+    }
+}
+
+/// The three [`EdgeDirection`]s of block edges in `camera`: `[vertical, world x, world z]`.
+/// Each world axis `d` maps to the clip-space vector `C (d, 0)`: when its `w` is zero (always
+/// for orthographic cameras) the edges are parallel, otherwise they meet at the vanishing point
+/// `C (d, 0)` in normalized device coordinates.
+pub fn edge_directions(camera: &Camera) -> [EdgeDirection; 3] {
+    let c = camera.clip_from_world();
+    let [w, h] = [f64::from(camera.size_px[0]), f64::from(camera.size_px[1])];
+    let fallback = picture_directions(camera);
+    let one = |d: DVec3, k: usize| {
+        let v = c * d.extend(0.0);
+        let screen = DVec2::new(v.x * w / 2.0, v.y * h / 2.0);
+        let far_px = 1e7;
+        if v.w.abs() * far_px <= screen.length() || v.w.abs() < 1e-12 {
+            return EdgeDirection::Parallel(fallback[k]);
+        }
+        let vp = DVec2::new((v.x / v.w + 1.0) / 2.0 * w, (v.y / v.w + 1.0) / 2.0 * h);
+        if vp.is_finite() {
+            EdgeDirection::Vanishing(vp)
+        } else {
+            EdgeDirection::Parallel(fallback[k])
+        }
+    };
+    [one(DVec3::Y, 0), one(DVec3::X, 1), one(DVec3::Z, 2)]
+}
+
 /// Picture coordinates (px, y up) of the centre of raster pixel `(col, row)` in an image of
 /// `height` rows (README "Picture coordinates": row `r` -> `y = H - r - 0.5`).
 pub fn picture_from_raster(col: u32, row: u32, height: u32) -> DVec2 {
@@ -162,14 +225,18 @@ struct Vote {
     p: DVec2,
 }
 
-/// Integer raster steps `(dcol, drow)` for `1..=reach` along picture direction `u`.
-fn raster_steps(u: DVec2, reach: u32) -> Vec<(i64, i64)> {
-    (1..=reach as i64)
-        .map(|i| {
-            let f = i as f64;
-            ((u.x * f).round() as i64, (-u.y * f).round() as i64)
-        })
-        .collect()
+/// Longest reach of the support test, px.
+const MAX_REACH_PX: usize = 8;
+
+/// Integer raster steps `(dcol, drow)` for `1..=reach` along picture direction `u` (no
+/// allocation: it runs per pixel in perspective views).
+fn raster_steps(u: DVec2, reach: u32, out: &mut [(i64, i64); MAX_REACH_PX]) -> usize {
+    let n = (reach as usize).min(MAX_REACH_PX);
+    for (i, o) in out.iter_mut().enumerate().take(n) {
+        let f = (i + 1) as f64;
+        *o = ((u.x * f).round() as i64, (-u.y * f).round() as i64);
+    }
+    n
 }
 
 /// Whether the edge pixel at `(col, row)` lies in a band running along `steps`.
@@ -199,29 +266,56 @@ fn supports(
 }
 
 /// Finds the straight segments of the binary `edges` map (values 0/1 or 0/255) along the three
-/// `directions` (usually [`picture_directions`]) and fits each by least squares (Ch. VI).
-/// Segments are sorted by direction, then offset, then position; the result is deterministic.
+/// `directions` (usually [`edge_directions`] of the camera) and fits each by least squares
+/// (Ch. VI). Segments are sorted by direction, then offset, then position; deterministic.
 pub fn fit_lines(
     edges: &GrayImage,
-    directions: &[DVec2; 3],
+    directions: &[EdgeDirection; 3],
     opts: &LineOptions,
 ) -> Vec<FittedLine> {
     let (w, h) = edges.dimensions();
     let raw = edges.as_raw();
     let mut lines = Vec::new();
-    for (k, &u) in directions.iter().enumerate() {
-        if !u.is_finite() || u.length_squared() < 0.5 {
+    for (k, dir) in directions.iter().enumerate() {
+        let ok = match *dir {
+            EdgeDirection::Parallel(u) => u.is_finite() && u.length_squared() > 0.5,
+            EdgeDirection::Vanishing(vp) => vp.is_finite(),
+        };
+        if !ok {
             continue;
         }
-        let votes = collect_votes(raw, w, h, u, opts);
-        lines.extend(lines_from_votes(votes, k, u, w, h, opts));
+        let centre = DVec2::new(f64::from(w), f64::from(h)) / 2.0;
+        let (axis, radius) = match *dir {
+            EdgeDirection::Vanishing(vp) => (
+                (centre - vp).normalize_or(DVec2::X),
+                centre.distance(vp).max(1.0),
+            ),
+            EdgeDirection::Parallel(_) => (DVec2::X, 1.0),
+        };
+        let frame = VoteFrame {
+            dir: *dir,
+            axis,
+            radius,
+        };
+        let votes = collect_votes(raw, w, h, &frame, opts);
+        lines.extend(lines_from_votes(votes, k, &frame, opts));
     }
     lines
 }
 
-fn collect_votes(raw: &[u8], w: u32, h: u32, u: DVec2, opts: &LineOptions) -> Vec<Vote> {
-    let steps = raster_steps(u, opts.reach_px);
-    let n = u.perp();
+/// One direction's vote coordinates (see [`EdgeDirection::vote_coordinates`]).
+struct VoteFrame {
+    dir: EdgeDirection,
+    axis: DVec2,
+    radius: f64,
+}
+
+fn collect_votes(raw: &[u8], w: u32, h: u32, frame: &VoteFrame, opts: &LineOptions) -> Vec<Vote> {
+    let mut steps = [(0i64, 0i64); MAX_REACH_PX];
+    let mut n_steps = 0;
+    if let EdgeDirection::Parallel(u) = frame.dir {
+        n_steps = raster_steps(u, opts.reach_px, &mut steps);
+    }
     let mut votes = Vec::new();
     let (wi, hi) = (i64::from(w), i64::from(h));
     for row in 0..h {
@@ -231,21 +325,21 @@ fn collect_votes(raw: &[u8], w: u32, h: u32, u: DVec2, opts: &LineOptions) -> Ve
                 continue;
             }
             let col = col as u32;
+            let p = picture_from_raster(col, row, h);
+            if let EdgeDirection::Vanishing(_) = frame.dir {
+                n_steps = raster_steps(frame.dir.at(p), opts.reach_px, &mut steps);
+            }
             if supports(
                 raw,
                 wi,
                 hi,
                 i64::from(col),
                 i64::from(row),
-                &steps,
+                &steps[..n_steps],
                 opts.max_misses,
             ) {
-                let p = picture_from_raster(col, row, h);
-                votes.push(Vote {
-                    rho: n.dot(p),
-                    t: u.dot(p),
-                    p,
-                });
+                let (rho, t) = frame.dir.vote_coordinates(p, frame.axis, frame.radius);
+                votes.push(Vote { rho, t, p });
             }
         }
     }
@@ -293,17 +387,22 @@ fn vote_peaks(votes: &[Vote], rho_min: f64, bins: usize, opts: &LineOptions) -> 
 fn lines_from_votes(
     votes: Vec<Vote>,
     k: usize,
-    u: DVec2,
-    w: u32,
-    h: u32,
+    frame: &VoteFrame,
     opts: &LineOptions,
 ) -> Vec<FittedLine> {
     if votes.is_empty() {
         return Vec::new();
     }
-    let diag = f64::from(w).hypot(f64::from(h));
-    let rho_min = -diag - 2.0;
-    let bins = (2.0 * diag + 4.0).ceil() as usize + 1;
+    let (lo, hi) = votes
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v.rho), hi.max(v.rho))
+        });
+    if !(lo.is_finite() && hi.is_finite()) || hi - lo > 1e6 {
+        return Vec::new();
+    }
+    let rho_min = lo.floor() - 2.0;
+    let bins = (hi - rho_min + 4.0).ceil() as usize + 1;
     let peaks = vote_peaks(&votes, rho_min, bins, opts);
     if peaks.is_empty() {
         return Vec::new();
@@ -340,6 +439,8 @@ fn lines_from_votes(
                 }
                 points.clear();
                 points.extend(run.iter().map(|v| v.p));
+                let centroid = points.iter().fold(DVec2::ZERO, |a, p| a + *p) / points.len() as f64;
+                let u = frame.dir.at(centroid);
                 if let Some(line) = fit_segment(&points, k, u, opts.max_turn_deg) {
                     out.push(line);
                 }
@@ -581,7 +682,8 @@ mod tests {
         let edges = GrayImage::from_fn(30, 50, |x, y| {
             Luma([u8::from((9..=12).contains(&x) && (5..=40).contains(&y))])
         });
-        let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)];
+        let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)]
+            .map(EdgeDirection::Parallel);
         let lines = fit_lines(&edges, &dirs, &LineOptions::default());
         assert_eq!(lines.len(), 1, "{lines:?}");
         let l = lines[0];

@@ -5,7 +5,7 @@
 //!    (eq. 2.1, Figure 2.7) with the 3x3 smoothing and the threshold of Chapter VI, giving a
 //!    binary edge map ([`EdgeOptions`], default threshold 80 as in the thesis).
 //! 2. [`fit_lines`]: straight segments along the three picture directions of block edges
-//!    ([`picture_directions`], from the camera), each fitted by least squares (Ch. VI).
+//!    ([`edge_directions`], from the camera: parallel, or through vanishing points), each fitted by least squares (Ch. VI).
 //! 3. [`find_vertices`]: vertices at the intersections and ends of the fitted lines, as a
 //!    [`LineDrawing`] whose `finalize` gives each vertex its six-bit code (Chapter IV bit order:
 //!    0 up, 1 down, 2 left-up, 3 left-down, 4 right-up, 5 right-down; Appendix A's table uses
@@ -31,8 +31,8 @@ pub use eval::{
     VertexMatch,
 };
 pub use lines::{
-    fit_line_least_squares, fit_lines, picture_directions, picture_from_raster,
-    refine_lines_on_seams, FittedLine, LineOptions,
+    edge_directions, fit_line_least_squares, fit_lines, picture_directions, picture_from_raster,
+    refine_lines_on_seams, EdgeDirection, FittedLine, LineOptions,
 };
 pub use vertices::{find_vertices, VertexOptions};
 
@@ -103,7 +103,7 @@ pub fn detect_line_drawing(
     check_picture(image, camera)?;
     Ok(detect_with_directions(
         image,
-        &picture_directions(camera),
+        &edge_directions(camera),
         opts,
     ))
 }
@@ -111,7 +111,7 @@ pub fn detect_line_drawing(
 /// Steps 1-3 with the three picture directions given (no camera check).
 pub fn detect_with_directions(
     image: &GrayImage,
-    directions: &[crate::geom::DVec2; 3],
+    directions: &[EdgeDirection; 3],
     opts: &VisionOptions,
 ) -> Detection {
     let (_, edges) = detect_edges(image, &opts.edges);

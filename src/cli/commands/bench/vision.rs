@@ -9,8 +9,8 @@ use crate::cli::commands::vertices::{read_camera, read_picture};
 use crate::drawing::LineDrawing;
 use crate::render::{Backend, Camera, CornerView, RenderOptions, Renderer};
 use crate::vision::{
-    find_vertices, fit_lines, line_angle_errors_deg, match_vertices_with_tolerances,
-    picture_directions, refine_lines_on_seams, smooth_3x3, sobel_magnitude, threshold,
+    edge_directions, find_vertices, fit_lines, line_angle_errors_deg,
+    match_vertices_with_tolerances, refine_lines_on_seams, smooth_3x3, sobel_magnitude, threshold,
     MatchTolerances, VisionOptions,
 };
 use anyhow::{bail, Context};
@@ -35,6 +35,10 @@ pub struct Args {
     /// recursively; the family is the folder name) instead of rendering.
     #[arg(long, conflicts_with = "suite")]
     pub from: Option<PathBuf>,
+    /// Render with a perspective camera of this vertical field of view, degrees (default:
+    /// orthographic, the target setting).
+    #[arg(long)]
+    pub perspective: Option<f64>,
     /// Matching distance, px.
     #[arg(long, default_value_t = 2.0)]
     pub match_px: f64,
@@ -96,8 +100,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     println!(
-        "vision front end vs ground truth: {} views, noise sigma {}, match within {} px, one core",
-        all.views, args.noise, args.match_px
+        "vision front end vs ground truth: {} views, {}, noise sigma {}, match within {} px, one core",
+        all.views,
+        match args.perspective {
+            Some(f) => format!("perspective {f} deg"),
+            None => "orthographic".to_string(),
+        },
+        args.noise,
+        args.match_px
     );
     println!(
         "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}",
@@ -150,7 +160,7 @@ fn timed_steps(
 ) -> (LineDrawing, Vec<crate::vision::FittedLine>, [f64; 5]) {
     let mut best = [f64::INFINITY; 5];
     let mut out = None;
-    let dirs = picture_directions(&s.camera);
+    let dirs = edge_directions(&s.camera);
     for _ in 0..repeat {
         let mut ms = [0.0; 5];
         let mut clock = Instant::now();
@@ -198,11 +208,17 @@ fn render_suite(args: &Args) -> anyhow::Result<Vec<Sample>> {
         );
     }
     let renderer = Renderer::new(Backend::Vulkan).context("creating the renderer (bench vision renders the suite; or pass --from DIR with rendered views)")?;
-    let opts = RenderOptions {
+    let mut opts = RenderOptions {
         noise_sigma: args.noise,
         seed: args.seed,
         ..Default::default()
     };
+    if let Some(fov_y_deg) = args.perspective {
+        if !(1.0..=170.0).contains(&fov_y_deg) {
+            bail!("--perspective: {fov_y_deg} is out of range; use 1..=170 degrees");
+        }
+        opts.camera.projection = crate::render::Projection::Perspective { fov_y_deg };
+    }
     let mut out = Vec::new();
     for f in files {
         let scene = crate::scene::read_scene(&f)?;
