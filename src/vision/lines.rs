@@ -503,9 +503,11 @@ pub fn refine_lines_on_seams(
 
 /// Minimum local darkness of a seam pixel, gray levels (the renderer's seams are 35 against
 /// faces of 100 and more; sensor noise of sigma 8 rarely reaches this).
-pub const MIN_SEAM_CONTRAST: f64 = 30.0;
+pub const MIN_SEAM_CONTRAST: f64 = 15.0;
 /// Seam pixels are looked for this close to the band's line, px.
 const SEAM_SEARCH_PX: f64 = 2.5;
+/// Seam pixels are not taken this close to a line's ends, px.
+const SEAM_END_MARGIN_PX: f64 = 5.0;
 /// A seam pixel is compared with the pixels this far away on either side, px.
 const SEAM_SIDE_PX: f64 = 2.0;
 
@@ -525,7 +527,9 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
     out.clear();
     let (w, h) = gray.dimensions();
     let raw = gray.as_raw();
-    let (t0, t1) = (l.along_px(l.from_px), l.along_px(l.to_px));
+    // Keep clear of the ends, where other lines' seams cross the band.
+    let margin = (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
+    let (t0, t1) = (l.along_px(l.from_px) + margin, l.along_px(l.to_px) - margin);
     let n = l.direction.perp();
     let steep = l.direction.y.abs() >= l.direction.x.abs();
     // Walk rows (steep lines) or columns (flat lines) between the ends.
@@ -585,14 +589,17 @@ fn refine_one(
         let darkness = a.min(b) - g;
         if darkness >= MIN_SEAM_CONTRAST {
             pts.push(p);
-            weights.push(darkness);
+            // Only the darkness beyond most of the threshold counts: noise that barely passes
+            // the test weighs little next to a real seam.
+            weights.push(darkness - 0.75 * MIN_SEAM_CONTRAST);
         }
     }
     // Seam pixels must cover at least half the line (counted along it, one per px).
     let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
     along.sort_unstable();
     along.dedup();
-    if (along.len() as f64) < 0.5 * l.length_px() {
+    let sampled = l.length_px() - 2.0 * (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
+    if (along.len() as f64) < 0.5 * sampled {
         return None;
     }
     let (c, mut dir) = fit_line_weighted(pts, weights)?;

@@ -64,6 +64,7 @@ struct Tally {
     matched: usize,
     codes_equal: usize,
     angles: Vec<f64>,
+    distances_px: Vec<f64>,
     ms: [f64; 5],
 }
 
@@ -94,6 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             t.matched += m.pairs.len();
             t.codes_equal += m.codes_equal;
             t.angles.extend(&angles);
+            t.distances_px.extend(&m.distances_px);
             for (a, b) in t.ms.iter_mut().zip(ms) {
                 *a += b;
             }
@@ -110,8 +112,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.match_px
     );
     println!(
-        "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}",
-        "family", "views", "truth", "found", "prec", "recall", "code", "ang_mean", "ang_max",
+        "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}",
+        "family", "views", "truth", "found", "prec", "recall", "code", "vtx_px", "ang_mean", "ang_max",
         "sobel", "smooth", "thresh", "lines", "verts", "total"
     );
     for (name, t) in families
@@ -133,7 +135,7 @@ fn print_row(name: &str, t: &Tally) {
     let v = t.views.max(1) as f64;
     let ms: Vec<f64> = t.ms.iter().map(|x| x / v).collect();
     println!(
-        "{:<22} {:>5} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>8.3} {:>8.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3}",
+        "{:<22} {:>5} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>7.3} {:>8.3} {:>8.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3}",
         name,
         t.views,
         t.truth,
@@ -141,6 +143,7 @@ fn print_row(name: &str, t: &Tally) {
         r(t.matched, t.found),
         r(t.matched, t.truth),
         r(t.codes_equal, t.matched),
+        t.distances_px.iter().sum::<f64>() / t.distances_px.len().max(1) as f64,
         mean,
         max,
         ms[0],
