@@ -639,3 +639,38 @@ fn print_time_per_drawing() {
         reps * cams.len()
     );
 }
+
+/// A longer run of the perturbation and ray-cast checks (300 random stacks, 4 views, 3
+/// perturbations each); run with `--release -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn stress_perturbed_and_validated_random_stacks() {
+    let mut rng = ChaCha8Rng::seed_from_u64(99);
+    let (mut checked, mut skipped, mut failed, mut disagreements) = (0, 0, 0, 0);
+    let stacks = random_stacks(12, 300);
+    for s in &stacks {
+        for view in CornerView::ALL {
+            let cam = camera(s, view);
+            let want = visible_line_drawing(s, &cam);
+            disagreements += validate_by_ray_casting(s, &cam, &want).len();
+            for _ in 0..3 {
+                let p = perturb(s, &mut rng, 0.03, 0.05);
+                if p.validate("perturbed").is_err() {
+                    skipped += 1;
+                    continue;
+                }
+                checked += 1;
+                if let Err(e) = same_structure(&want, &visible_line_drawing(&p, &cam), 0.5) {
+                    failed += 1;
+                    println!("{} {view:?}: {e}", s.name);
+                }
+            }
+        }
+    }
+    println!(
+        "{} stacks x 4 views: {disagreements} ray-cast disagreements; perturbed: {checked} \
+         checked, {failed} differ, {skipped} skipped (overlap > CONTACT_TOL_MM)",
+        stacks.len()
+    );
+    assert_eq!((disagreements, failed), (0, 0));
+}

@@ -152,6 +152,15 @@ fn remove_coincident(
 /// The overlap of `b` on `a` as a range of `a`'s local parameter, if the two are collinear
 /// within `snap_px` and overlap by more than `snap_px`.
 fn overlap(a: &Seg, b: &Seg, snap_px: f64, sin_max: f64) -> Option<[f64; 2]> {
+    let (alo, ahi) = (a.p[0].min(a.p[1]), a.p[0].max(a.p[1]));
+    let (blo, bhi) = (b.p[0].min(b.p[1]), b.p[0].max(b.p[1]));
+    if alo.x > bhi.x + snap_px
+        || blo.x > ahi.x + snap_px
+        || alo.y > bhi.y + snap_px
+        || blo.y > ahi.y + snap_px
+    {
+        return None;
+    }
     let (da, db) = (a.p[1] - a.p[0], b.p[1] - b.p[0]);
     if da.perp_dot(db).abs() > sin_max * da.length() * db.length() {
         return None;
@@ -324,5 +333,51 @@ fn drop_unused_points(d: &mut LineDrawing) {
     d.points = points;
     for l in &mut d.lines {
         *l = [new_index[l[0]], new_index[l[1]]];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::LineKind;
+
+    fn seg(p0: (f64, f64), p1: (f64, f64)) -> Seg {
+        Seg {
+            piece: Piece {
+                edge: 0,
+                t: [0.0, 1.0],
+                kind: LineKind::Boundary,
+                other_block: None,
+                contact: false,
+                score: 0,
+            },
+            p: [DVec2::new(p0.0, p0.1), DVec2::new(p1.0, p1.1)],
+        }
+    }
+
+    #[test]
+    fn ends_closer_than_the_snap_distance_become_one_point() {
+        let segs = [
+            seg((0.0, 0.0), (10.0, 0.0)),
+            seg((10.005, 0.0), (10.0, 10.0)),
+            seg((20.0, 0.0), (10.3, 0.0)),
+        ];
+        let (points, ends) = merge_ends(&segs, 0.01);
+        assert_eq!(points.len(), 5, "{points:?}");
+        assert_eq!(ends[0][1], ends[1][0]);
+        assert_ne!(ends[2][1], ends[0][1]);
+        assert!((points[ends[0][1]].x - 10.0025).abs() < 1e-12);
+    }
+
+    #[test]
+    fn collinear_overlap_is_measured_on_the_first_segment() {
+        let sin = COINCIDENT_ANGLE_DEG.to_radians().sin();
+        let a = seg((0.0, 0.0), (10.0, 0.0));
+        let b = seg((15.0, 0.001), (5.0, 0.0));
+        assert_eq!(overlap(&a, &b, 0.01, sin), Some([0.5, 1.0]));
+        let far = seg((0.0, 1.0), (10.0, 1.0));
+        assert_eq!(overlap(&a, &far, 0.01, sin), None);
+        let touching = seg((10.0, 0.0), (20.0, 0.0));
+        assert_eq!(overlap(&a, &touching, 0.01, sin), None);
     }
 }

@@ -54,6 +54,7 @@ pub(super) fn classify_pieces(
         cuts.clear();
         collect_cuts(geo, ei.edge, tol, &mut cuts);
         cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|b, a| *b - *a < 1e-9);
         for &[t0, t1] in &ei.intervals {
             let mut start = t0;
             let inner = cuts

@@ -181,6 +181,9 @@ impl Edge {
     }
 }
 
+/// A catalog edge: vertex indices and the two faces' indices (`BlockType::edges`).
+type CatalogEdge = (usize, usize, usize, usize);
+
 /// Per-block summary.
 pub(super) struct BlockGeometry {
     /// World bounds.
@@ -214,7 +217,7 @@ impl SceneGeometry {
         let mut faces = Vec::new();
         let mut edges = Vec::new();
         let mut blocks = Vec::new();
-        let mut edge_cache: Vec<(*const BlockType, Vec<(usize, usize, usize, usize)>)> = Vec::new();
+        let mut edge_cache: Vec<(*const BlockType, Vec<CatalogEdge>)> = Vec::new();
         for (bi, block) in scene.blocks.iter().enumerate() {
             let bt = block.block_type;
             let verts = block.world_vertices();

@@ -19,11 +19,13 @@
 //!    background or a distant surface on one side makes it a boundary; the same plane of two
 //!    blocks on both sides a crack; two planes meeting at the edge a convex or concave line
 //!    (a contact when they belong to different blocks).
-//! 4. **Assembly** (`assemble`): coincident pieces (a lower block's top edge under the flush
-//!    bottom edge of the block above, an edge hidden exactly behind a silhouette) are kept once;
-//!    line ends closer than the snap distance become one point; a line is split where another
-//!    line ends on its interior (the T junctions); codes and junctions come from
-//!    [`LineDrawing::finalize`].
+//! 4. **Assembly** (`assemble`): pieces that coincide in the picture are kept once: the nearer
+//!    one where they lie at different depths (an edge hidden exactly behind a silhouette), else
+//!    the one whose own faces are seen beside it, else the upper block's (a lower block's top
+//!    edge under the flush bottom edge of the block above); a trimmed piece is classified
+//!    again. Then collinear pieces of the same edge and kind are joined, line ends closer than
+//!    the snap distance become one point, and a line is split where another line ends on its
+//!    interior (the T junctions); codes and junctions come from [`LineDrawing::finalize`].
 //!
 //! ## Contact policy
 //! Settled poses are not flush (`shared/notes/ground-truth.md`). Faces parallel within
@@ -92,4 +94,39 @@ pub fn visible_line_drawing_with_tolerances(
     let intervals = visibility::visible_intervals(&geo, tol);
     let pieces = classify::classify_pieces(&geo, &intervals, tol);
     assemble::assemble_drawing(&geo, pieces, tol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{CameraOptions, CornerView};
+    use crate::scene::Block;
+    use glam::DVec3;
+
+    #[test]
+    fn seams_allow_two_neighbours_off_flush_by_the_contact_tolerance() {
+        let t = TruthTolerances::default();
+        assert_eq!(t.contact_mm, CONTACT_TOL_MM);
+        assert!((t.seam_mm - 2.0 * CONTACT_TOL_MM).abs() < 1e-15);
+        assert!(t.sample_offset_mm > t.seam_mm && t.sample_offset_mm < 7.5);
+    }
+
+    #[test]
+    fn an_empty_scene_draws_nothing_and_a_cube_draws_a_hexagon_with_a_fork() {
+        let empty = Scene::new("empty", vec![]);
+        let cam = Camera::frame(&[], CornerView::Ne, &CameraOptions::default());
+        assert!(visible_line_drawing(&empty, &cam).lines.is_empty());
+        let cube = Scene::new(
+            "cube",
+            vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)],
+        );
+        let cam = Camera::frame(
+            &cube.blocks[0].world_vertices(),
+            CornerView::Se,
+            &CameraOptions::default(),
+        );
+        let d = visible_line_drawing(&cube, &cam);
+        assert_eq!((d.points.len(), d.lines.len()), (7, 9));
+        assert_eq!(d.codes.iter().filter(|c| c.0 == 22).count(), 1);
+    }
 }

@@ -60,6 +60,10 @@ pub(super) fn visible_intervals(geo: &SceneGeometry, tol: &TruthTolerances) -> V
 /// (so a face touching the edge hides nothing, while a face clearly in front hides exactly up
 /// to where the edge crosses its plane).
 fn hidden_by_face(edge: &Edge, face: &Face, contact_mm: f64) -> Option<[f64; 2]> {
+    // Cheap test first: an edge nowhere behind the plane cannot be hidden by the face.
+    if face.plane_distance(edge.a).min(face.plane_distance(edge.b)) >= -contact_mm {
+        return None;
+    }
     let [s0, s1] = clip_segment_to_polygon(edge.pa, edge.pb, &face.poly, OVERLAP_EPS_PX)?;
     let ta = Projector::t_from_s(s0, edge.wa, edge.wb);
     let tb = Projector::t_from_s(s1, edge.wa, edge.wb);
