@@ -123,7 +123,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         print_row(name, t);
     }
     println!(
-        "(ms per view per step; angle error in degrees over fitted lines with a true counterpart)"
+        "(vtx_px: mean distance of matched vertices, px; ms per view per step, fastest of --repeat; angle error in degrees over fitted lines with a true counterpart)"
     );
     Ok(())
 }
