@@ -3,6 +3,10 @@
 //! Sobel + smoothing + threshold, lines and vertices. Nothing may panic. The same entry point
 //! runs on a few hundred seeded random pictures in `tests/vision.rs`
 //! (`random_small_pictures_never_panic`), so CI needs no nightly compiler.
+//!
+//! Run: `cd fuzz && RUSTC_BOOTSTRAP=1 cargo fuzz run vision -- -max_total_time=150 -max_len=20000`
+//! (cargo-fuzz 0.13.2 on stable rustc 1.95 with RUSTC_BOOTSTRAP=1; first build about 16 min on
+//! 2 cores). Seeded with a fixture PNG, 122,457 runs in 151 s found no crash.
 #![no_main]
 
 use blockworld::geom::DVec2;
