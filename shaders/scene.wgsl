@@ -1,6 +1,10 @@
 // blockworld scene shader (issue #2): flat Lambert gray levels computed on the CPU
 // (src/render/gpu/mesh.rs), a dark seam about one pixel wide centred on every block face edge,
 // and the ground truth: depth along the optical axis (1/16 mm steps) and block ids.
+//
+// The seam: each vertex carries the lines of its face's projected edges in framebuffer pixels
+// (a, b, c with a^2 + b^2 = 1, computed on the CPU in f64), so |a x + b y + c| at the fragment's
+// pixel centre is its exact distance in px from the edge line in the picture.
 
 struct Frame {
     // World mm to wgpu clip space (Camera::clip_from_world).
@@ -20,19 +24,29 @@ struct Frame {
 
 struct VertexIn {
     @location(0) position_mm: vec3<f32>,
-    @location(1) edge_mm_a: vec4<f32>,
-    @location(2) edge_mm_b: vec4<f32>,
+    // Eight edge lines (a, b, c), packed into six vec4s.
+    @location(1) lines_0: vec4<f32>,
+    @location(2) lines_1: vec4<f32>,
+    @location(3) lines_2: vec4<f32>,
+    @location(4) lines_3: vec4<f32>,
+    @location(5) lines_4: vec4<f32>,
+    @location(6) lines_5: vec4<f32>,
     // (gray level, block index + 1)
-    @location(3) shade: vec2<u32>,
+    @location(7) shade: vec2<u32>,
 };
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    // Distances to the face's edge lines: affine over the face, interpolated exactly.
-    @location(0) edge_mm_a: vec4<f32>,
-    @location(1) edge_mm_b: vec4<f32>,
-    @location(2) depth_mm: f32,
-    @location(3) @interpolate(flat) shade: vec2<u32>,
+    @location(0) @interpolate(flat) lines_0: vec4<f32>,
+    @location(1) @interpolate(flat) lines_1: vec4<f32>,
+    @location(2) @interpolate(flat) lines_2: vec4<f32>,
+    @location(3) @interpolate(flat) lines_3: vec4<f32>,
+    @location(4) @interpolate(flat) lines_4: vec4<f32>,
+    @location(5) @interpolate(flat) lines_5: vec4<f32>,
+    // Depth along the optical axis: affine in world space, so perspective-correct
+    // interpolation gives it exactly.
+    @location(6) depth_mm: f32,
+    @location(7) @interpolate(flat) shade: vec2<u32>,
 };
 
 @vertex
@@ -40,27 +54,40 @@ fn vs_main(v: VertexIn) -> VertexOut {
     let p = vec4<f32>(v.position_mm, 1.0);
     var out: VertexOut;
     out.clip = frame.clip_from_world * p;
-    out.edge_mm_a = v.edge_mm_a;
-    out.edge_mm_b = v.edge_mm_b;
+    out.lines_0 = v.lines_0;
+    out.lines_1 = v.lines_1;
+    out.lines_2 = v.lines_2;
+    out.lines_3 = v.lines_3;
+    out.lines_4 = v.lines_4;
+    out.lines_5 = v.lines_5;
     out.depth_mm = -dot(frame.view_z_row, p);
     out.shade = v.shade;
     return out;
 }
 
-// Distance in pixels to each edge line: the distance in mm over its screen-space gradient
-// length (mm per pixel across the line).
-fn edge_px(d: vec4<f32>) -> vec4<f32> {
-    let gx = dpdx(d);
-    let gy = dpdy(d);
-    let g = sqrt(gx * gx + gy * gy);
-    return d / max(g, vec4<f32>(1e-20));
+fn line_px(l: vec3<f32>, f: vec2<f32>) -> f32 {
+    return abs(l.x * f.x + l.y * f.y + l.z);
+}
+
+// Distance in px from the pixel centre to the nearest edge line of the fragment's face.
+fn nearest_edge_px(in: VertexOut) -> f32 {
+    let f = in.clip.xy;
+    let u0 = in.lines_0;
+    let u1 = in.lines_1;
+    let u2 = in.lines_2;
+    let u3 = in.lines_3;
+    let u4 = in.lines_4;
+    let u5 = in.lines_5;
+    let m0 = min(line_px(u0.xyz, f), line_px(vec3<f32>(u0.w, u1.xy), f));
+    let m1 = min(line_px(vec3<f32>(u1.zw, u2.x), f), line_px(u2.yzw, f));
+    let m2 = min(line_px(u3.xyz, f), line_px(vec3<f32>(u3.w, u4.xy), f));
+    let m3 = min(line_px(vec3<f32>(u4.zw, u5.x), f), line_px(u5.yzw, f));
+    return min(min(m0, m1), min(m2, m3));
 }
 
 fn gray_of(in: VertexOut) -> vec4<f32> {
-    let a = edge_px(in.edge_mm_a);
-    let b = edge_px(in.edge_mm_b);
-    let m = min(min(min(a.x, a.y), min(a.z, a.w)), min(min(b.x, b.y), min(b.z, b.w)));
-    let level = select(f32(in.shade.x), frame.seam_level, m < frame.seam_half_width_px);
+    let seam = nearest_edge_px(in) < frame.seam_half_width_px;
+    let level = select(f32(in.shade.x), frame.seam_level, seam);
     return vec4<f32>(level / 255.0, 0.0, 0.0, 1.0);
 }
 

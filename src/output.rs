@@ -65,14 +65,24 @@ pub fn write_rendered_views(
     Ok(written)
 }
 
+/// `camera_<v>.json`: the camera's fields in their declared order, then the depth scale and
+/// the picture convention.
+#[derive(serde::Serialize)]
+struct CameraFile<'a> {
+    #[serde(flatten)]
+    camera: &'a Camera,
+    depth_units_per_mm: f64,
+    picture: &'static str,
+}
+
 /// `camera_<v>.json`: the camera plus the depth scale and the picture convention.
 pub fn camera_json(camera: &Camera) -> String {
-    let mut value = serde_json::to_value(camera).expect("camera serializes");
-    if let Some(map) = value.as_object_mut() {
-        map.insert("depth_units_per_mm".into(), DEPTH_UNITS_PER_MM.into());
-        map.insert("picture".into(), PICTURE_CONVENTION.into());
-    }
-    let mut s = serde_json::to_string_pretty(&value).expect("json serializes");
+    let file = CameraFile {
+        camera,
+        depth_units_per_mm: DEPTH_UNITS_PER_MM,
+        picture: PICTURE_CONVENTION,
+    };
+    let mut s = serde_json::to_string_pretty(&file).expect("camera serializes");
     s.push('\n');
     s
 }

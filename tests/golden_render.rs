@@ -411,8 +411,17 @@ fn check_depth_and_ids(scene: &Scene, v: &RenderedView) {
 fn depth_and_ids_match_an_exact_ray_cast_orthographic_perspective_and_odd_sizes() {
     let Some(r) = renderer() else { return };
     let sample = read_scene(&common::root().join("scenes/thesis_sample.json")).unwrap();
+    let turned = Scene::new(
+        "turned",
+        vec![
+            Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 30.0),
+            Block::new("b7_5", DVec3::new(30.0, 3.75, 10.0), -45.0),
+        ],
+    );
+    turned.validate("turned").unwrap();
     let cases = [
         (cube(), CornerView::Ne, [512, 480], Projection::Orthographic),
+        (turned, CornerView::Se, [512, 480], Projection::Orthographic),
         (
             cube(),
             CornerView::Sw,

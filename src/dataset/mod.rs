@@ -1,1 +1,25 @@
-//! Synthetic datasets (issue #3): families, shards, manifest, resume, merge.
+//! Synthetic datasets (issue #3): seeded scene families (Chapter VII's supported cases and its
+//! named failures), settled with `physics`, rendered with `render`, written one folder per
+//! scene with a manifest of sha256 hashes, sliced into shards for Slurm or Kubernetes, resumed
+//! after an interruption and merged.
+//!
+//! Determinism: a scene's content depends only on its own seed, derived from (dataset seed,
+//! scene index), never on `--jobs` or the shard, so every way of producing a dataset gives the
+//! same bytes. `writer` is the only part that does file I/O.
+
+mod error;
+mod families;
+mod generate;
+mod manifest;
+mod shard;
+mod writer;
+
+pub use error::DatasetError;
+pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
+pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpec, MAX_ATTEMPTS};
+pub use manifest::{ManifestEntry, MANIFEST_NAME};
+pub use shard::Shard;
+pub use writer::{
+    generate_dataset, merge_shards, DatasetOptions, GenerateSummary, MergeSummary, StageTimes,
+    DATASET_FILE, DONE_FILE,
+};

@@ -1,1 +1,360 @@
-//! Settling scenes with rapier3d (issue #3). The only home of rapier3d.
+//! Settling scenes with rapier3d (issue #3): the only home of rapier3d.
+//!
+//! A scene's blocks are dropped from a small gap above their intended poses onto a fixed floor
+//! and simulated until every body sleeps or a time limit passes. The scene is **stable** when no
+//! block moved more than [`SettleParams::drift_tol_mm`] nor turned more than
+//! [`SettleParams::turn_tol_deg`] from its intended pose and no block touches the floor that was
+//! not meant to (the thesis's Chapter VII constraint: every block rests on the floor or on other
+//! blocks, "contacted at least by one surface").
+//!
+//! Units (see `shared/notes/dependencies.md`): rapier runs in **metres** with
+//! `length_unit` = 0.01 (block-sized slop, prediction distance and sleep thresholds), gravity
+//! -9.81 m/s², a 1/240 s step and stiff contacts (240 Hz between bodies, 480 Hz against the
+//! floor), so resting blocks sink only about 0.03 mm into their supports instead of 0.4 mm and
+//! tall towers stay up (see [`SettleParams::dt_s`]).
+//!
+//! Policy for the settled scene (`shared/notes/ground-truth.md`, "settled poses are not flush"):
+//! a **stable** scene is written back at its *intended* poses, as `rotation` quaternions, and
+//! the measured drift goes into `meta.settle`; the exact line drawing keeps every seam and
+//! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
+
+mod report;
+
+pub use report::{BlockReport, SettleReport};
+
+use crate::geom::{DQuat, DVec3};
+use crate::scene::{Block, Orientation, Scene};
+use rapier3d::prelude::{
+    ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
+};
+use rapier3d::prelude::{Pose, Rotation, Vector};
+
+/// Metres per millimetre: scene files are in mm, the simulation in m.
+const M_PER_MM: f64 = 0.001;
+
+/// Everything that decides how a scene is settled; every field gives its unit and default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SettleParams {
+    /// Time step in seconds; default 1/240 s. NOTE: at 1/60 s (rapier's default, tuned for
+    /// metre-sized bodies) a perfectly aligned tower of three b15 falls over: per step gravity
+    /// moves a 15 mm block by a fifth of its size. Measured on aligned towers of 3, 6 and 10
+    /// b15/b7_5/b30: 1/240 s with 240/480 Hz contacts and 8 solver iterations keeps all of them
+    /// standing (max drift 0.03-0.5 mm from accumulated contact penetration) in 130-170 steps.
+    pub dt_s: f64,
+    /// Simulated time limit in seconds; default 4 s. A scene whose bodies are not all asleep by
+    /// then is unstable.
+    pub max_time_s: f64,
+    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (issue #3).
+    pub drift_tol_mm: f64,
+    /// Largest allowed turn from the intended orientation, degrees; default 1 (issue #3).
+    pub turn_tol_deg: f64,
+    /// Gap per layer the blocks are lifted by before the drop, mm; default 0.05. A block whose
+    /// bottom is at layer `k` (counting distinct bottom heights from the floor, `k` = 0 on the
+    /// floor) is lifted by `(k + 1) * drop_gap_mm`, so nothing starts interpenetrating.
+    pub drop_gap_mm: f64,
+    /// A settled block whose lowest vertex is within this height of the floor touches it, mm;
+    /// default 0.25.
+    pub floor_contact_mm: f64,
+    /// Block density, kg/m³; default 1050 (ABS plastic, about 1.05 g/cm³).
+    pub density_kg_m3: f64,
+    /// Coulomb friction coefficient of blocks and floor; default 0.55 (ABS on ABS).
+    pub friction: f64,
+    /// rapier's `length_unit` in metres per "unit" of scale; default 0.01 (dependencies.md).
+    pub length_unit_m: f64,
+    /// Natural frequency of contacts between blocks, Hz; default 240 (rapier's 30 Hz leaves
+    /// 0.4 mm of penetration; above about 1/dt the solver becomes unstable and towers fall).
+    pub contact_hz: f64,
+    /// Natural frequency of contacts with the fixed floor, Hz; default 480.
+    pub static_contact_hz: f64,
+    /// Solver iterations per step; default 8 (rapier's 4 lets 6-block towers jitter awake).
+    pub solver_iterations: usize,
+}
+
+impl Default for SettleParams {
+    fn default() -> Self {
+        SettleParams {
+            dt_s: 1.0 / 240.0,
+            max_time_s: 4.0,
+            drift_tol_mm: 0.5,
+            turn_tol_deg: 1.0,
+            drop_gap_mm: 0.05,
+            floor_contact_mm: 0.25,
+            density_kg_m3: 1050.0,
+            friction: 0.55,
+            length_unit_m: 0.01,
+            contact_hz: 240.0,
+            static_contact_hz: 480.0,
+            solver_iterations: 8,
+        }
+    }
+}
+
+/// A settled scene and the measurements behind its verdict.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settled {
+    /// Stable: the intended poses as `rotation` quaternions with `meta.settle` set. Unstable:
+    /// the simulated poses, also with `meta.settle`.
+    pub scene: Scene,
+    /// Per-block drift and the verdict.
+    pub report: SettleReport,
+}
+
+/// Errors of settling; each names the block and the fix.
+#[derive(Debug, thiserror::Error)]
+pub enum PhysicsError {
+    /// A block's pose has a NaN or infinite number.
+    #[error("block {index} has a non-finite pose; fix its centre or rotation")]
+    NotFinite {
+        /// Block index (0-based).
+        index: usize,
+    },
+    /// The block's polyhedron has no convex hull rapier can build.
+    #[error("block {index} ({type_id}): its catalog vertices do not form a convex hull; fix the catalog entry")]
+    BadShape {
+        /// Block index (0-based).
+        index: usize,
+        /// Catalog id.
+        type_id: &'static str,
+    },
+    /// Parameters out of range.
+    #[error("invalid settle parameters: {0}")]
+    Params(String),
+}
+
+/// Settles `scene` with rapier3d and judges its stability (issue #3 "Settling").
+///
+/// Deterministic: the same scene and parameters give bit-identical results (rapier's
+/// `enhanced-determinism`; one thread per scene).
+pub fn settle(scene: &Scene, params: &SettleParams) -> Result<Settled, PhysicsError> {
+    check_params(params)?;
+    let mut world = build_world(scene, params)?;
+    let max_steps = (params.max_time_s / params.dt_s).ceil() as u32;
+    let mut steps = 0;
+    let mut asleep = world.bodies.is_empty();
+    while !asleep && steps < max_steps {
+        world.world.step();
+        steps += 1;
+        asleep = world.all_asleep();
+    }
+    let poses = world.block_poses_mm();
+    let report = SettleReport::measure(scene, &poses, steps, asleep, params);
+    let scene = settled_scene(scene, &poses, &report);
+    Ok(Settled { scene, report })
+}
+
+fn check_params(p: &SettleParams) -> Result<(), PhysicsError> {
+    let positive = [
+        ("dt_s", p.dt_s),
+        ("max_time_s", p.max_time_s),
+        ("density_kg_m3", p.density_kg_m3),
+        ("length_unit_m", p.length_unit_m),
+        ("contact_hz", p.contact_hz),
+        ("static_contact_hz", p.static_contact_hz),
+    ];
+    for (name, v) in positive {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(PhysicsError::Params(format!("{name} must be > 0, got {v}")));
+        }
+    }
+    if p.solver_iterations == 0 {
+        return Err(PhysicsError::Params(
+            "solver_iterations must be >= 1".into(),
+        ));
+    }
+    let non_negative = [
+        ("drift_tol_mm", p.drift_tol_mm),
+        ("turn_tol_deg", p.turn_tol_deg),
+        ("drop_gap_mm", p.drop_gap_mm),
+        ("floor_contact_mm", p.floor_contact_mm),
+        ("friction", p.friction),
+    ];
+    for (name, v) in non_negative {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(PhysicsError::Params(format!(
+                "{name} must be >= 0, got {v}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The rapier world of one scene and the body of each block, in block order.
+struct SceneWorld {
+    world: PhysicsWorld,
+    bodies: Vec<RigidBodyHandle>,
+    /// Per block, the rotation folded into its collider (see [`canonical_frame`]): a block's
+    /// rotation is its body's rotation times this.
+    offsets: Vec<DQuat>,
+}
+
+impl SceneWorld {
+    fn all_asleep(&self) -> bool {
+        self.bodies
+            .iter()
+            .all(|h| self.world.bodies[*h].is_sleeping())
+    }
+
+    /// Each block's simulated (centre mm, rotation), in f64.
+    fn block_poses_mm(&self) -> Vec<(DVec3, DQuat)> {
+        self.bodies
+            .iter()
+            .map(|h| {
+                let pose = self.world.bodies[*h].position();
+                let t = pose.translation.as_dvec3() / M_PER_MM;
+                (t, pose.rotation.as_dquat())
+            })
+            .zip(&self.offsets)
+            .map(|((t, q), offset)| (t, (q * *offset).normalize()))
+            .collect()
+    }
+}
+
+fn build_world(scene: &Scene, params: &SettleParams) -> Result<SceneWorld, PhysicsError> {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::new(0.0, -9.81, 0.0);
+    world.integration_parameters = integration_parameters(params);
+    let floor_half_m = 1.0f32;
+    world.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, -floor_half_m, 0.0)),
+        ColliderBuilder::cuboid(floor_half_m * 10.0, floor_half_m, floor_half_m * 10.0)
+            .friction(params.friction as f32),
+    );
+    let layers = drop_layers(scene);
+    let mut bodies = Vec::with_capacity(scene.blocks.len());
+    let mut offsets = Vec::with_capacity(scene.blocks.len());
+    for (index, block) in scene.blocks.iter().enumerate() {
+        if !(block.center_mm.is_finite() && block.rotation().is_finite()) {
+            return Err(PhysicsError::NotFinite { index });
+        }
+        let lift_mm = (layers[index] as f64 + 1.0) * params.drop_gap_mm;
+        let (offset, swap_xz) = canonical_frame(block);
+        let body_q = block.rotation().normalize() * offset.inverse();
+        let body = RigidBodyBuilder::dynamic().pose(block_pose_m(block, body_q, lift_mm));
+        let collider = block_collider(block, index, swap_xz)?
+            .density(params.density_kg_m3 as f32)
+            .friction(params.friction as f32);
+        let (handle, _) = world.insert(body, collider);
+        bodies.push(handle);
+        offsets.push(offset);
+    }
+    Ok(SceneWorld {
+        world,
+        bodies,
+        offsets,
+    })
+}
+
+fn integration_parameters(params: &SettleParams) -> IntegrationParameters {
+    let mut ip = IntegrationParameters {
+        dt: params.dt_s as f32,
+        length_unit: params.length_unit_m as f32,
+        ..IntegrationParameters::default()
+    };
+    ip.num_solver_iterations = params.solver_iterations;
+    ip.contact_softness.natural_frequency = params.contact_hz as f32;
+    ip.static_contact_softness.natural_frequency = params.static_contact_hz as f32;
+    ip
+}
+
+/// For a cuboid turned about +y by an exact multiple of 90 degrees: that rotation (folded into
+/// the collider, whose x and z half extents swap for odd quarter turns) and whether to swap.
+/// Otherwise the identity and no swap.
+///
+/// NOTE: why. A yaw of 90 degrees is not exact in f32 (the quaternion's 0.70710677 is off by
+/// 1e-8), and stacks of such bodies were measured to lose contacts in parry's cuboid-cuboid
+/// manifold (a supported three-layer stack shed a block 52 mm). With the turn folded into the
+/// collider, every grid-aligned body starts at the identity rotation, exactly.
+fn canonical_frame(block: &Block) -> (DQuat, bool) {
+    if block.block_type.cuboid_half_extents_mm().is_none() {
+        return (DQuat::IDENTITY, false);
+    }
+    let q = block.rotation().normalize();
+    if (q * DVec3::Y).angle_between(DVec3::Y) > 1e-9 {
+        return (DQuat::IDENTITY, false);
+    }
+    let x = q * DVec3::X;
+    let yaw_deg = (-x.z).atan2(x.x).to_degrees();
+    let quarters = (yaw_deg / 90.0).round();
+    if (yaw_deg - quarters * 90.0).abs() > 1e-6 {
+        return (DQuat::IDENTITY, false);
+    }
+    (q, (quarters as i64).rem_euclid(2) == 1)
+}
+
+/// The body's pose in metres: the block's centre lifted by `lift_mm`, rotation `q`.
+fn block_pose_m(block: &Block, q: DQuat, lift_mm: f64) -> Pose {
+    let c = (block.center_mm + DVec3::Y * lift_mm) * M_PER_MM;
+    Pose::from_parts(c.as_vec3(), Rotation::from_array(q.as_quat().to_array()))
+}
+
+/// A cuboid collider when the catalog says the block is one (x and z half extents swapped when
+/// `swap_xz`), else the convex hull of its catalog vertices (so a wedge needs no code here).
+fn block_collider(
+    block: &Block,
+    index: usize,
+    swap_xz: bool,
+) -> Result<ColliderBuilder, PhysicsError> {
+    let t = block.block_type;
+    if let Some(h) = t.cuboid_half_extents_mm() {
+        let h = (h * M_PER_MM).as_vec3();
+        let h = if swap_xz {
+            Vector::new(h.z, h.y, h.x)
+        } else {
+            h
+        };
+        return Ok(ColliderBuilder::cuboid(h.x, h.y, h.z));
+    }
+    let points: Vec<Vector> = t.vertices().map(|v| (v * M_PER_MM).as_vec3()).collect();
+    ColliderBuilder::convex_hull(&points).ok_or(PhysicsError::BadShape {
+        index,
+        type_id: t.id,
+    })
+}
+
+/// Each block's drop layer: the rank of its lowest point among the scene's distinct bottom
+/// heights (0 for blocks on the floor). Heights within 0.01 mm count as the same.
+fn drop_layers(scene: &Scene) -> Vec<usize> {
+    let bottoms: Vec<f64> = scene.blocks.iter().map(lowest_y_mm).collect();
+    let mut distinct: Vec<f64> = Vec::new();
+    let mut sorted = bottoms.clone();
+    sorted.sort_by(f64::total_cmp);
+    for b in sorted {
+        if distinct.last().is_none_or(|&d| b - d > 0.01) {
+            distinct.push(b);
+        }
+    }
+    bottoms
+        .iter()
+        .map(|b| distinct.iter().filter(|&&d| *b - d > 0.01).count())
+        .collect()
+}
+
+/// Lowest world y of a block, mm.
+fn lowest_y_mm(block: &Block) -> f64 {
+    block
+        .world_vertices()
+        .iter()
+        .map(|v| v.y)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The scene to write: intended poses when stable (snapped back), simulated poses otherwise;
+/// both with `rotation` quaternions and `meta.settle`.
+fn settled_scene(scene: &Scene, poses: &[(DVec3, DQuat)], report: &SettleReport) -> Scene {
+    let mut out = scene.clone();
+    for (block, (center_mm, q)) in out.blocks.iter_mut().zip(poses) {
+        if report.stable {
+            block.orientation = Orientation::Quaternion(block.rotation());
+        } else {
+            block.center_mm = *center_mm;
+            block.orientation = Orientation::Quaternion(*q);
+        }
+    }
+    let mut meta = out.meta.take().unwrap_or_default();
+    meta.insert("settle".to_string(), report.to_meta());
+    out.meta = Some(meta);
+    out
+}
+
+#[cfg(test)]
+mod tests;

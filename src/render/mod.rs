@@ -100,11 +100,13 @@ pub const BACKGROUND_LEVEL: u8 = 20;
 /// distinguishable (issue #2; real Fischer-Technik blocks show a dark gap there).
 pub const SEAM_LEVEL: u8 = 35;
 
-/// Half width of the seam in px: a fragment closer than this to an edge line of its own face is
-/// seam. An edge shared by two visible faces (a convex edge, a crack between touching blocks)
-/// gets a band about 1 px wide centred on the exact line; a silhouette edge gets the half band
-/// on its block's side only.
-pub const SEAM_HALF_WIDTH_PX: f64 = 0.5;
+/// Half width of the seam in px: a fragment whose pixel centre lies closer than this to the
+/// projected line of an edge of its own face is seam. An edge shared by two visible faces (a
+/// convex edge, a crack between touching blocks) gets a band about 1.1 px wide centred on the
+/// exact line (1 or 2 pixels across); a silhouette edge gets the half band on its block's side
+/// only. Slightly more than 0.5 so that a line exactly between two pixel centres (common with
+/// symmetric framing) marks both of them instead of neither.
+pub const SEAM_HALF_WIDTH_PX: f64 = 0.55;
 
 pub use gpu::mesh::{face_gray_level, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO, LIGHT_IN_CAMERA_FRAME};
 

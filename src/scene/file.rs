@@ -40,6 +40,37 @@ struct BlockEntry {
 /// Parses and validates a scene from JSON text; `source_name` (usually the path) names the
 /// input in every error.
 pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
+    let scene = parse_scene_unvalidated(text, source_name)?;
+    scene.validate(source_name)?;
+    Ok(scene)
+}
+
+/// Parses a reconstruction file (issue #4): the scene format, but a recognizer's output is
+/// scored, not rejected, so blocks may overlap each other or dip below the floor. Non-finite
+/// poses are still errors.
+pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Scene, SceneError> {
+    let scene = parse_scene_unvalidated(text, source_name)?;
+    for (index, b) in scene.blocks.iter().enumerate() {
+        if !(b.center_mm.is_finite() && b.rotation().is_finite()) {
+            return Err(SceneError::NotFinite {
+                source_name: source_name.to_string(),
+                index,
+            });
+        }
+    }
+    Ok(scene)
+}
+
+/// Reads and parses a reconstruction file (see [`parse_reconstruction`]).
+pub fn read_reconstruction(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_reconstruction(&text, &path.display().to_string())
+}
+
+fn parse_scene_unvalidated(text: &str, source_name: &str) -> Result<Scene, SceneError> {
     let file: SceneFile = serde_json::from_str(text).map_err(|e| SceneError::Format {
         source_name: source_name.to_string(),
         message: e.to_string(),
@@ -59,7 +90,6 @@ pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
         csg: file.csg,
         meta: file.meta,
     };
-    scene.validate(source_name)?;
     Ok(scene)
 }
 

@@ -12,7 +12,9 @@ mod sat;
 
 pub use catalog::{block_type, BlockType, CATALOG};
 pub use error::SceneError;
-pub use file::{parse_scene, read_scene, scene_to_json, write_scene};
+pub use file::{
+    parse_reconstruction, parse_scene, read_reconstruction, read_scene, scene_to_json, write_scene,
+};
 
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 use glam::DQuat;

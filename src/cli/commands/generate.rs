@@ -1,10 +1,197 @@
-//! `blockworld generate` (not yet implemented).
+//! `blockworld generate --count N --seed S -o DATASET [--family F ...] [--jobs J]
+//! [--shard I/N | --shards N] [view options]` (issue #3 "Generation").
+//!
+//! `--seed` is the dataset seed (shared with the view options, where it seeds sensor noise:
+//! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
+//! `SLURM_ARRAY_TASK_ID` (minus `SLURM_ARRAY_TASK_MIN`) or Kubernetes' `JOB_COMPLETION_INDEX`.
+
+use crate::cli::view_args::ViewArgs;
+use crate::dataset::{generate_dataset, DatasetOptions, Family, GenerateSummary, Shard};
+use crate::physics::SettleParams;
+use crate::render::Renderer;
+use anyhow::{bail, Context};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
 
 /// Options of `blockworld generate`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Number of scenes in the whole dataset (all shards together).
+    #[arg(long)]
+    pub count: u64,
+    /// Output dataset directory (created; re-running the same command resumes).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Families to cycle through (repeat or comma-separate); default all. One of: single, row,
+    /// l_shape, two_layer, three_layer, tower, staircase, separated, random_stack,
+    /// upper_larger, yaw.
+    #[arg(long = "family", value_delimiter = ',')]
+    pub families: Vec<String>,
+    /// Worker threads (default: all cores). The dataset's bytes do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    pub jobs: usize,
+    /// Write only shard I of N (0-based): scenes with index % N == I.
+    #[arg(long, conflicts_with = "shards")]
+    pub shard: Option<String>,
+    /// Write shard I of N, I taken from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX.
+    #[arg(long)]
+    pub shards: Option<u64>,
+    /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
+/// Resolves the families named on the command line (all when none).
+pub fn parse_families(names: &[String]) -> anyhow::Result<Vec<Family>> {
+    let names: Vec<&str> = names
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
+    if names.is_empty() {
+        return Ok(Family::ALL.to_vec());
+    }
+    names
+        .iter()
+        .map(|n| {
+            Family::parse(n).with_context(|| {
+                let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+                format!(
+                    "--family: unknown family {n:?}; known: {}",
+                    known.join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
+/// Shard from `--shard I/N`, or `--shards N` with the index from the array job's environment.
+fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
+    if let Some(s) = &args.shard {
+        return Shard::parse(s).map_err(anyhow::Error::msg);
+    }
+    let Some(n) = args.shards else {
+        return Ok(Shard::WHOLE);
+    };
+    let env_u64 = |name: &str| -> anyhow::Result<Option<u64>> {
+        match std::env::var(name) {
+            Ok(v) => v
+                .trim()
+                .parse::<u64>()
+                .map(Some)
+                .with_context(|| format!("{name}={v:?} is not a whole number")),
+            Err(_) => Ok(None),
+        }
+    };
+    let index = if let Some(id) = env_u64("SLURM_ARRAY_TASK_ID")? {
+        if let Some(count) = env_u64("SLURM_ARRAY_TASK_COUNT")? {
+            if count != n {
+                bail!(
+                    "--shards {n} but SLURM_ARRAY_TASK_COUNT={count}; submit with --array=0-{}",
+                    n - 1
+                );
+            }
+        }
+        let min = env_u64("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+        id.checked_sub(min)
+            .context("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?
+    } else if let Some(i) = env_u64("JOB_COMPLETION_INDEX")? {
+        i
+    } else {
+        bail!("--shards {n} needs SLURM_ARRAY_TASK_ID (Slurm array job) or JOB_COMPLETION_INDEX (Kubernetes Indexed Job); use --shard I/{n} elsewhere");
+    };
+    Shard::new(index, n).map_err(anyhow::Error::msg)
+}
+
+/// The dataset options of a command line (also used by `bench generate`).
+pub fn dataset_options(args: &Args) -> anyhow::Result<DatasetOptions> {
+    Ok(DatasetOptions {
+        count: args.count,
+        seed: args.view.seed,
+        families: parse_families(&args.families)?,
+        views: args.view.corner_views()?,
+        render: args.view.render_options()?,
+        settle: SettleParams::default(),
+        shard: resolve_shard(args)?,
+        jobs: args.jobs,
+    })
+}
+
+/// Creates the renderer when views are asked for.
+pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
+    if args.corner_views()?.is_empty() {
+        return Ok(None);
+    }
+    let r = Renderer::new(args.backend()?)
+        .context("creating the renderer (pass --views \"\" to write scene.json only)")?;
+    Ok(Some(r))
+}
 
 /// Runs `blockworld generate`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`blockworld generate` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let opts = dataset_options(&args)?;
+    let renderer = renderer_for(&args.view)?;
+    let total = opts.shard.indices(opts.count).count() as u64;
+    let started = Instant::now();
+    let summary = with_progress(total, |progress| {
+        generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
+    })
+    .with_context(|| format!("generating {}", args.output.display()))?;
+    report(&summary, &opts, started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Runs `f` with a progress callback: an indicatif bar on a terminal, plain log lines (about
+/// every 5%) otherwise.
+pub fn with_progress<T>(total: u64, f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) -> T) -> T {
+    if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new(total);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} scenes  {per_sec}  ETA {eta}  {elapsed_precise}",
+            )
+            .expect("valid template"),
+        );
+        let out = f(&|done, _| bar.set_position(done));
+        bar.finish();
+        out
+    } else {
+        let step = (total / 20).max(1);
+        let started = Instant::now();
+        let last = AtomicU64::new(0);
+        f(&|done, total| {
+            if done % step == 0 || done == total {
+                let prev = last.fetch_max(done, Ordering::Relaxed);
+                if prev < done {
+                    let secs = started.elapsed().as_secs_f64().max(1e-9);
+                    eprintln!(
+                        "generate: {done}/{total} scenes, {:.1} scenes/s",
+                        done as f64 / secs
+                    );
+                }
+            }
+        })
+    }
+}
+
+fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) {
+    let shard = if opts.shard.is_whole() {
+        String::new()
+    } else {
+        format!(" (shard {}/{})", opts.shard.index, opts.shard.count)
+    };
+    println!(
+        "{} scenes{shard}: {} generated, {} kept from an earlier run; redrew {} unstable and {} unplaceable draws; {:.2} s ({:.1} scenes/s); manifest {}",
+        s.entries.len(),
+        s.generated,
+        s.resumed,
+        s.unstable_draws,
+        s.unplaceable_draws,
+        secs,
+        s.generated as f64 / secs.max(1e-9),
+        s.manifest.display()
+    );
 }

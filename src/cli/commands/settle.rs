@@ -1,10 +1,66 @@
-//! `blockworld settle` (not yet implemented).
+//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (issue #3 "Settling").
+
+use crate::physics::{settle, SettleParams};
+use crate::scene::{read_scene, write_scene};
+use anyhow::{bail, Context};
+use std::path::PathBuf;
 
 /// Options of `blockworld settle`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The scene file to settle.
+    pub scene: PathBuf,
+    /// Where to write the settled scene (intended poses as quaternions when stable).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Write the simulated poses even when blocks moved beyond the tolerances.
+    #[arg(long)]
+    pub allow_drift: bool,
+    /// Largest allowed drift of a block's centre, mm.
+    #[arg(long, default_value_t = 0.5)]
+    pub drift_tol_mm: f64,
+    /// Largest allowed turn of a block, degrees.
+    #[arg(long, default_value_t = 1.0)]
+    pub turn_tol_deg: f64,
+}
 
-/// Runs `blockworld settle`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`blockworld settle` is not implemented yet")
+/// Runs `blockworld settle`: stable scenes are written snapped to their intended poses;
+/// unstable ones are reported block by block and fail unless `--allow-drift`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let scene = read_scene(&args.scene)?;
+    let params = SettleParams {
+        drift_tol_mm: args.drift_tol_mm,
+        turn_tol_deg: args.turn_tol_deg,
+        ..SettleParams::default()
+    };
+    let settled =
+        settle(&scene, &params).with_context(|| format!("settling {}", args.scene.display()))?;
+    let r = &settled.report;
+    let moved = r.describe_moved(&scene, &params);
+    if !r.stable && !args.allow_drift {
+        bail!(
+            "{} is not stable (tolerances {} mm, {} deg):\n{moved}\nnothing written; fix the scene or pass --allow-drift to write the settled poses",
+            args.scene.display(),
+            params.drift_tol_mm,
+            params.turn_tol_deg
+        );
+    }
+    write_scene(&args.output, &settled.scene)?;
+    if r.stable {
+        println!(
+            "{}: stable after {} steps (max drift {:.4} mm, max turn {:.4} deg); wrote {}",
+            args.scene.display(),
+            r.steps,
+            r.max_drift_mm,
+            r.max_turn_deg,
+            args.output.display()
+        );
+    } else {
+        eprintln!("warning: {} is not stable:\n{moved}", args.scene.display());
+        println!("wrote the drifted poses to {}", args.output.display());
+        if let Err(e) = settled.scene.validate(&args.output.display().to_string()) {
+            eprintln!("warning: the drifted poses do not validate: {e}");
+        }
+    }
+    Ok(())
 }

@@ -1,20 +1,21 @@
 //! The triangle mesh the GPU draws: every block's catalog polyhedron (convex faces,
 //! fan-triangulated) plus a floor quad, with the per-vertex data the shader needs: flat
-//! Lambert gray level, block id and, for the seam between touching blocks, the distance in mm
-//! from the vertex to every edge line of its face.
+//! Lambert gray level, block id and, for the seam between touching blocks, the lines of the
+//! face's projected edges in framebuffer pixels (computed in f64 with the same
+//! `Camera::picture_from_world` the ground truth uses, so seams sit on the exact lines).
 //!
 //! Plain data, no wgpu: the shading rule lives here so tests can compute the expected levels.
 
-use crate::geom::DVec3;
+use crate::geom::{DVec2, DVec3};
 use crate::render::Camera;
 use crate::scene::Scene;
 
-/// Most edges a face polygon may have: the shader carries one distance per edge line in two
-/// `vec4`s (catalog faces have 4; the Chapter VII wedge has at most 4 too).
+/// Most edges a face polygon may have: the shader carries one line per edge in six `vec4`s
+/// (catalog faces have 4; the Chapter VII wedge has at most 4 too).
 pub const MAX_FACE_EDGES: usize = 8;
 
-/// Distance written for unused edge slots and for the floor: far beyond any seam.
-const NO_EDGE_MM: f32 = 1.0e9;
+/// Line written for unused edge slots and for the floor: `0 x + 0 y + 1e9`, far beyond any seam.
+const NO_EDGE_LINE: [f32; 3] = [0.0, 0.0, 1.0e9];
 
 /// Ambient share of the light (faces turned away from the light get only this).
 pub const AMBIENT: f64 = 0.25;
@@ -37,9 +38,11 @@ pub const FLOOR_ALBEDO: f64 = 2.0 / 7.0;
 pub struct Vertex {
     /// World position, mm.
     pub position_mm: [f32; 3],
-    /// Distance in mm from this vertex to the line of each edge of its face, inside the face
-    /// positive; [`NO_EDGE_MM`] for unused slots. Affine over the face, so interpolation is exact.
-    pub edge_distance_mm: [f32; MAX_FACE_EDGES],
+    /// The face's projected edge lines `(a, b, c)` in framebuffer px (x right, y down, pixel
+    /// centres at +0.5), normalised so `|a x + b y + c|` is the distance in px; the same for
+    /// every vertex of the face. [`NO_EDGE_LINE`] for unused slots, the floor, and faces that
+    /// reach behind the near plane.
+    pub edge_lines_px: [[f32; 3]; MAX_FACE_EDGES],
     /// Flat gray level 0..=255 of the face.
     pub gray_level: u32,
     /// Block index + 1; 0 for the floor.
@@ -78,12 +81,11 @@ pub fn face_gray_level(normal: DVec3, albedo: f64, camera: &Camera) -> u8 {
         .clamp(0.0, 255.0) as u8
 }
 
-/// Triangles of every block of `scene` and of the floor, as seen by `camera` (the light follows
+/// Triangles of every block of `scene` and then of the floor, as seen by `camera` (the light follows
 /// the camera). The floor is a square at y = 0 centred under the camera target, as wide as the
 /// far clip distance, so it fills every picture down to the far plane or the horizon.
 pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, TooManyEdges> {
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 36);
-    push_floor(&mut out, camera);
     for (index, block) in scene.blocks.iter().enumerate() {
         let world = block.world_vertices();
         for (f, face) in block.block_type.faces.iter().enumerate() {
@@ -95,11 +97,12 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
                 });
             }
             let corners: Vec<DVec3> = face.iter().map(|&k| world[k as usize]).collect();
-            let normal = block.world_face_normal(f);
-            let level = face_gray_level(normal, BLOCK_ALBEDO, camera);
-            push_face(&mut out, &corners, normal, level, index as u32 + 1);
+            let level = face_gray_level(block.world_face_normal(f), BLOCK_ALBEDO, camera);
+            push_face(&mut out, &corners, camera, level, index as u32 + 1);
         }
     }
+    // The floor last: the depth test then rejects its fragments behind blocks before shading.
+    push_floor(&mut out, camera);
     Ok(out)
 }
 
@@ -118,7 +121,7 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
     for k in [0, 1, 2, 0, 2, 3] {
         out.push(Vertex {
             position_mm: quad[k].as_vec3().to_array(),
-            edge_distance_mm: [NO_EDGE_MM; MAX_FACE_EDGES],
+            edge_lines_px: [NO_EDGE_LINE; MAX_FACE_EDGES],
             gray_level: level,
             block_id: 0,
         });
@@ -126,29 +129,52 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
 }
 
 /// Fan-triangulates the convex polygon `corners` (counter-clockwise seen from outside).
-fn push_face(out: &mut Vec<Vertex>, corners: &[DVec3], normal: DVec3, level: u8, id: u32) {
-    let n = corners.len();
-    // Inward in-plane unit normal of each edge line: normal x edge direction.
-    let inward: Vec<DVec3> = (0..n)
-        .map(|k| normal.cross(corners[(k + 1) % n] - corners[k]).normalize())
-        .collect();
-    let vertex = |p: DVec3| {
-        let mut d = [NO_EDGE_MM; MAX_FACE_EDGES];
-        for k in 0..n {
-            d[k] = inward[k].dot(p - corners[k]) as f32;
-        }
-        Vertex {
-            position_mm: p.as_vec3().to_array(),
-            edge_distance_mm: d,
-            gray_level: level as u32,
-            block_id: id,
-        }
+fn push_face(out: &mut Vec<Vertex>, corners: &[DVec3], camera: &Camera, level: u8, id: u32) {
+    let lines = edge_lines_px(corners, camera);
+    let vertex = |p: DVec3| Vertex {
+        position_mm: p.as_vec3().to_array(),
+        edge_lines_px: lines,
+        gray_level: level as u32,
+        block_id: id,
     };
-    for k in 1..n - 1 {
+    for k in 1..corners.len() - 1 {
         out.push(vertex(corners[0]));
         out.push(vertex(corners[k]));
         out.push(vertex(corners[k + 1]));
     }
+}
+
+/// The lines through the projected edges of a face, in framebuffer px: `(a, b, c)` with
+/// `a^2 + b^2 = 1`, so `|a x + b y + c|` is the distance of pixel point `(x, y)` from the line.
+pub fn edge_lines_px(corners: &[DVec3], camera: &Camera) -> [[f32; 3]; MAX_FACE_EDGES] {
+    let mut lines = [NO_EDGE_LINE; MAX_FACE_EDGES];
+    let height = camera.size_px[1] as f64;
+    let projected: Vec<DVec3> = corners
+        .iter()
+        .map(|p| camera.picture_from_world(*p))
+        .collect();
+    if projected
+        .iter()
+        .any(|p| !p.is_finite() || p.z <= camera.near_far_mm[0])
+    {
+        return lines;
+    }
+    // Framebuffer coordinates: picture x, y flipped.
+    let fb: Vec<DVec2> = projected
+        .iter()
+        .map(|p| DVec2::new(p.x, height - p.y))
+        .collect();
+    let n = fb.len();
+    for k in 0..n.min(MAX_FACE_EDGES) {
+        let (p, q) = (fb[k], fb[(k + 1) % n]);
+        let along = q - p;
+        if along.length() < 1e-12 {
+            continue;
+        }
+        let normal = along.perp().normalize();
+        lines[k] = [normal.x as f32, normal.y as f32, (-normal.dot(p)) as f32];
+    }
+    lines
 }
 
 #[cfg(test)]
@@ -193,7 +219,7 @@ mod tests {
     }
 
     #[test]
-    fn cube_mesh_has_floor_and_twelve_triangles_with_exact_edge_distances() {
+    fn cube_mesh_has_twelve_triangles_then_the_floor_and_exact_edge_lines() {
         let scene = cube();
         let cam = Camera::frame(
             &scene.blocks[0].world_vertices(),
@@ -201,16 +227,25 @@ mod tests {
             &CameraOptions::default(),
         );
         let v = scene_vertices(&scene, &cam).unwrap();
-        assert_eq!(v.len(), 6 + 12 * 3);
-        assert!(v[..6].iter().all(|v| v.block_id == 0));
-        for t in v[6..].chunks(3) {
-            // Every triangle vertex is a polygon corner: it lies on two edge lines (distance 0)
-            // and 15 mm from the opposite ones.
+        assert_eq!(v.len(), 12 * 3 + 6);
+        assert!(v[36..].iter().all(|v| v.block_id == 0));
+        let h = cam.size_px[1] as f64;
+        for t in v[..36].chunks(3) {
             for p in t {
-                let mut d: Vec<f32> = p.edge_distance_mm[..4].to_vec();
-                d.sort_by(f32::total_cmp);
-                assert_eq!(d, vec![0.0, 0.0, 15.0, 15.0], "{p:?}");
                 assert_eq!(p.block_id, 1);
+                assert_eq!(
+                    p.edge_lines_px, t[0].edge_lines_px,
+                    "one face, one set of lines"
+                );
+                // Every vertex is a polygon corner: on exactly two of the four lines.
+                let q = cam.picture_from_world(DVec3::from(p.position_mm.map(f64::from)));
+                let (x, y) = (q.x, h - q.y);
+                let on: Vec<f64> = p.edge_lines_px[..4]
+                    .iter()
+                    .map(|[a, b, c]| (*a as f64 * x + *b as f64 * y + *c as f64).abs())
+                    .collect();
+                assert_eq!(on.iter().filter(|d| **d < 1e-3).count(), 2, "{on:?}");
+                assert!(p.edge_lines_px[4..].iter().all(|l| *l == NO_EDGE_LINE));
             }
             // Counter-clockwise seen from outside: the triangle normal points away from the centre.
             let [a, b, c] = [t[0], t[1], t[2]].map(|p| DVec3::from(p.position_mm.map(f64::from)));

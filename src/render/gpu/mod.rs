@@ -183,7 +183,7 @@ impl Gpu {
         })
     }
 
-    /// "name (backend, device type)".
+    /// "name (backend, device type, driver)", for logs and benchmark tables.
     pub fn adapter_info(&self) -> String {
         format!(
             "{} ({:?}, {:?}, driver {} {})",
@@ -214,6 +214,7 @@ impl Gpu {
             .lock()
             .map_err(|_| RenderError::Gpu("renderer state poisoned by an earlier panic".into()))?;
         let state = &mut *state;
+        let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let vertex_bytes: &[u8] = bytemuck::cast_slice(vertices);
@@ -228,7 +229,13 @@ impl Gpu {
         self.encode_passes(&mut encoder, targets, vbuf, vertices.len() as u32);
         encode_readback(&mut encoder, targets);
         self.queue.submit([encoder.finish()]);
+        let submitted = started.elapsed();
         let result = self.read_back(targets);
+        tracing::debug!(
+            submit_ms = submitted.as_secs_f64() * 1e3,
+            total_ms = started.elapsed().as_secs_f64() * 1e3,
+            "gpu draw + readback"
+        );
         let oom_error = pollster::block_on(oom.pop());
         let validation_error = pollster::block_on(scope.pop());
         if let Some(e) = validation_error.or(oom_error) {
@@ -472,11 +479,14 @@ fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
         let mut out = Vec::with_capacity(w * h);
         for r in 0..h {
             let start = offset as usize + r * l.truth_row as usize;
-            out.extend(
-                bytes[start..start + 2 * w]
-                    .chunks_exact(2)
-                    .map(|c| u16::from_ne_bytes([c[0], c[1]])),
-            );
+            let row = &bytes[start..start + 2 * w];
+            match bytemuck::try_cast_slice::<u8, u16>(row) {
+                Ok(values) => out.extend_from_slice(values),
+                Err(_) => out.extend(
+                    row.chunks_exact(2)
+                        .map(|c| u16::from_ne_bytes([c[0], c[1]])),
+                ),
+            }
         }
         out
     };
@@ -557,7 +567,11 @@ fn create_pipeline(
         0 => Float32x3,
         1 => Float32x4,
         2 => Float32x4,
-        3 => Uint32x2,
+        3 => Float32x4,
+        4 => Float32x4,
+        5 => Float32x4,
+        6 => Float32x4,
+        7 => Uint32x2,
     ];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(fragment_entry),

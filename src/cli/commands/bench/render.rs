@@ -1,10 +1,186 @@
-//! `blockworld bench render` (not yet implemented).
+//! `blockworld bench render`: ms per view for scenes of 1, 10 and 50 blocks at 512 x 480
+//! (issue #2 target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
+//! Columns: render + readback (pixels only), the same plus the exact line drawing
+//! (`Renderer::render`), and render + readback + PNG encoding of the three images.
+
+use crate::geom::DVec3;
+use crate::output::{encode_png_gray16, encode_png_gray8};
+use crate::render::{Backend, CornerView, RenderOptions, Renderer};
+use crate::scene::{Block, Scene};
+use anyhow::Context;
+use std::time::{Duration, Instant};
 
 /// Options of `blockworld bench render`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Timed renders per scene (spread over the four views), after 32 untimed warm-up renders.
+    #[arg(long, default_value_t = 200)]
+    pub iterations: usize,
+    /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
+    #[arg(long, default_value = "vulkan")]
+    pub backend: String,
+    /// Multisample count, 1 or 4.
+    #[arg(long, default_value_t = 1)]
+    pub msaa: u32,
+}
+
+/// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
+pub fn bench_scene(n: usize) -> Scene {
+    let blocks = (0..n)
+        .map(|k| {
+            let (layer, i) = (k / 9, k % 9);
+            let centre = DVec3::new(
+                (i % 3) as f64 * 15.0,
+                layer as f64 * 15.0 + 7.5,
+                (i / 3) as f64 * 15.0,
+            );
+            Block::new("b15", centre, 0.0)
+        })
+        .collect();
+    Scene::new(format!("bench_{n}"), blocks)
+}
 
 /// Runs `blockworld bench render`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`blockworld bench render` is not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let backend = match args.backend.to_ascii_lowercase().as_str() {
+        "vulkan" | "vk" => Backend::Vulkan,
+        "gl" | "gles" => Backend::Gl,
+        other => anyhow::bail!("--backend: unknown backend {other:?}; use vulkan or gl"),
+    };
+    let opts = RenderOptions {
+        msaa: args.msaa,
+        ..Default::default()
+    };
+    let iterations = args.iterations.max(4);
+    let start = Instant::now();
+    let renderer = Renderer::new(backend).context("starting the renderer")?;
+    let setup = start.elapsed();
+    println!("adapter: {}", renderer.adapter_info());
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        println!(
+            "load average (1, 5, 15 min) at start: {}",
+            load.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    }
+    println!(
+        "device setup (instance + adapter + device + pipelines): {:.1} ms",
+        ms(setup)
+    );
+    println!(
+        "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (each cell: median / mean wall ms / CPU ms per view)",
+        opts.camera.size_px[0], opts.camera.size_px[1], opts.msaa
+    );
+    println!("| blocks | render + readback | + line drawing | render + readback + 3 PNG encodes |");
+    println!("|---|---|---|---|");
+    for n in [1, 10, 50] {
+        let scene = bench_scene(n);
+        scene
+            .validate(&scene.name)
+            .context("the benchmark scene is invalid")?;
+        for k in 0..32 {
+            renderer.render_pixels(&scene, CornerView::ALL[k % 4], &opts)?;
+        }
+        let pixels = time_views(iterations, |view| {
+            renderer.render_pixels(&scene, view, &opts).map(|_| ())
+        })?;
+        let full = time_views(iterations, |view| {
+            renderer.render(&scene, view, &opts).map(|_| ())
+        })?;
+        let mut encode_error = None;
+        let png = time_views(iterations, |view| {
+            let v = renderer.render_pixels(&scene, view, &opts)?;
+            let encoded = encode_png_gray8(&v.gray)
+                .and_then(|_| encode_png_gray16(&v.depth))
+                .and_then(|_| encode_png_gray16(&v.ids));
+            if let Err(e) = encoded {
+                encode_error = Some(e);
+            }
+            Ok(())
+        })?;
+        if let Some(e) = encode_error {
+            return Err(e).context("encoding PNGs");
+        }
+        println!(
+            "| {n} | {} | {} | {} |",
+            pixels.show(),
+            full.show(),
+            png.show()
+        );
+    }
+    Ok(())
+}
+
+/// Median and mean wall time per view, and the process's CPU time per view (all threads,
+/// lavapipe's rasterizer threads included).
+struct Timing {
+    median: Duration,
+    mean: Duration,
+    cpu: Option<Duration>,
+}
+
+impl Timing {
+    fn show(&self) -> String {
+        let cpu = self
+            .cpu
+            .map(|c| format!("{:.2}", ms(c)))
+            .unwrap_or_else(|| "?".into());
+        format!("{:.3} / {:.3} / {cpu}", ms(self.median), ms(self.mean))
+    }
+}
+
+/// User + system CPU time of this process so far, from `/proc/self/stat` (Linux; clock ticks of
+/// 10 ms, the kernel's USER_HZ = 100 on this machine kind).
+fn process_cpu_time() -> Option<Duration> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name in parentheses; utime and stime are fields 14 and 15.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    Some(Duration::from_millis(ticks * 10))
+}
+
+fn time_views(
+    iterations: usize,
+    mut f: impl FnMut(CornerView) -> Result<(), crate::render::RenderError>,
+) -> anyhow::Result<Timing> {
+    let mut times = Vec::with_capacity(iterations);
+    let cpu_start = process_cpu_time();
+    for k in 0..iterations {
+        let t = Instant::now();
+        f(CornerView::ALL[k % 4])?;
+        times.push(t.elapsed());
+    }
+    let cpu = process_cpu_time()
+        .zip(cpu_start)
+        .map(|(end, start)| end.saturating_sub(start) / iterations as u32);
+    let mean = times.iter().sum::<Duration>() / times.len() as u32;
+    times.sort();
+    Ok(Timing {
+        median: times[times.len() / 2],
+        mean,
+        cpu,
+    })
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bench_scenes_are_valid_stacks_of_the_asked_size() {
+        for n in [1, 10, 50] {
+            let s = bench_scene(n);
+            assert_eq!(s.blocks.len(), n);
+            s.validate("bench").unwrap();
+        }
+        let top = bench_scene(50).bounds_mm().unwrap().1;
+        assert_eq!(top.y, 6.0 * 15.0, "50 blocks make 6 layers");
+    }
 }

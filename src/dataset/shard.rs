@@ -1,0 +1,75 @@
+//! Shards: disjoint, deterministic slices of a dataset for array jobs (Slurm, Kubernetes
+//! Indexed Jobs). Scene `i` belongs to shard `i mod count`.
+
+/// Shard `index` of `count` (0-based); `Shard::WHOLE` is the unsharded dataset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard, `0..count`.
+    pub index: u64,
+    /// Number of shards, at least 1.
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole dataset as one shard.
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// A checked shard `index` of `count`.
+    pub fn new(index: u64, count: u64) -> Result<Shard, String> {
+        if count == 0 || index >= count {
+            return Err(format!(
+                "shard {index}/{count}: need count >= 1 and index < count (shards are 0-based)"
+            ));
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Parses `I/N`.
+    pub fn parse(s: &str) -> Result<Shard, String> {
+        let (i, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("--shard {s:?}: expected I/N such as 0/4"))?;
+        let num = |x: &str| {
+            x.trim()
+                .parse::<u64>()
+                .map_err(|_| format!("--shard {s:?}: expected I/N with whole numbers"))
+        };
+        Shard::new(num(i)?, num(n)?)
+    }
+
+    /// Whether scene `index` belongs to this shard.
+    pub fn contains(&self, index: u64) -> bool {
+        index % self.count == self.index
+    }
+
+    /// `true` for the unsharded dataset.
+    pub fn is_whole(&self) -> bool {
+        self.count == 1
+    }
+
+    /// The scene indices of this shard among `0..total`, ascending.
+    pub fn indices(&self, total: u64) -> impl Iterator<Item = u64> + '_ {
+        (self.index..total).step_by(self.count as usize)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_are_disjoint_and_cover_everything() {
+        let total = 23;
+        let mut seen = vec![0; total as usize];
+        for i in 0..4 {
+            let s = Shard::new(i, 4).unwrap();
+            for k in s.indices(total) {
+                assert!(s.contains(k));
+                seen[k as usize] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&n| n == 1));
+        assert_eq!(Shard::parse("1/3").unwrap(), Shard { index: 1, count: 3 });
+        assert!(Shard::parse("3/3").is_err() && Shard::parse("x").is_err());
+    }
+}

@@ -1,0 +1,485 @@
+//! Writing a dataset to disk (the only I/O in `dataset`): `dataset.json` with the options, one
+//! folder per scene (`scene.json`, the rendered views and their ground truth, `done.json`), and
+//! the manifest; resuming an interrupted run; merging shard manifests.
+//!
+//! Every file goes through [`crate::io::write_atomic`]. A scene counts as done only when its
+//! `done.json` (its manifest line) exists and every file it lists has the listed sha256, so
+//! re-running the same command after a kill or a full disk redoes exactly the scenes that are
+//! missing or damaged.
+
+use super::generate::{draw_stable_scene, SceneSpec};
+use super::manifest::{
+    manifest_text, parse_manifest, parse_shard_manifest_name, sha256_hex, shard_manifest_name,
+    ManifestEntry, MANIFEST_NAME,
+};
+use super::{DatasetError, Family, Shard};
+use crate::io::write_atomic;
+use crate::physics::SettleParams;
+use crate::render::{CornerView, RenderOptions, Renderer};
+use crate::scene::{scene_to_json, write_scene};
+use rayon::prelude::*;
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// The options file at the top of a dataset.
+pub const DATASET_FILE: &str = "dataset.json";
+/// A scene's completion record: its manifest line, written last.
+pub const DONE_FILE: &str = "done.json";
+/// The settled scene in each scene folder.
+const SCENE_FILE: &str = "scene.json";
+/// Version of the dataset layout, bumped when files change meaning.
+const LAYOUT_VERSION: u32 = 1;
+
+/// Everything that decides a dataset's content, plus how to slice and parallelise the work.
+#[derive(Debug, Clone)]
+pub struct DatasetOptions {
+    /// Number of scenes in the whole dataset (all shards).
+    pub count: u64,
+    /// Dataset seed; scene `i` uses `scene_seed(seed, i)`.
+    pub seed: u64,
+    /// Families, cycled: scene `i` is of `families[i % len]`.
+    pub families: Vec<Family>,
+    /// Views to render; empty writes `scene.json` only.
+    pub views: Vec<CornerView>,
+    /// Render options; each scene's noise seed is replaced by its scene seed.
+    pub render: RenderOptions,
+    /// Settling parameters.
+    pub settle: SettleParams,
+    /// Which slice this run writes.
+    pub shard: Shard,
+    /// Worker threads; 0 = all cores. Does not change the content.
+    pub jobs: usize,
+}
+
+/// Seconds spent per stage, summed over the scenes generated (not resumed).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Drawing, validating and settling (all attempts).
+    pub settle_s: f64,
+    /// Rendering views and ground truth.
+    pub render_s: f64,
+    /// Encoding and writing files, hashing.
+    pub write_s: f64,
+}
+
+impl StageTimes {
+    fn add(&mut self, o: &StageTimes) {
+        self.settle_s += o.settle_s;
+        self.render_s += o.render_s;
+        self.write_s += o.write_s;
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct GenerateSummary {
+    /// Scenes generated in this run.
+    pub generated: u64,
+    /// Scenes found complete and kept.
+    pub resumed: u64,
+    /// Draws rejected because they did not settle stably.
+    pub unstable_draws: u64,
+    /// Draws rejected before settling.
+    pub unplaceable_draws: u64,
+    /// Time per stage over the generated scenes.
+    pub times: StageTimes,
+    /// The manifest written (`manifest.jsonl` or the shard's).
+    pub manifest: PathBuf,
+    /// This run's manifest entries in index order.
+    pub entries: Vec<ManifestEntry>,
+}
+
+/// Per-scene outcome inside a run.
+struct SceneOutcome {
+    entry: ManifestEntry,
+    generated: Option<(StageTimes, u32, u32)>,
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
+    move |source| DatasetError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// The `dataset.json` content: everything that decides the files, nothing about jobs or shards.
+fn dataset_json(opts: &DatasetOptions) -> Value {
+    let c = &opts.render.camera;
+    let s = &opts.settle;
+    json!({
+        "version": LAYOUT_VERSION,
+        "generator": format!("blockworld {}", env!("CARGO_PKG_VERSION")),
+        "count": opts.count,
+        "seed": opts.seed,
+        "scene_seed": "splitmix64(seed ^ splitmix64(index))",
+        "families": opts.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
+        "family_of_scene": "families[index % len(families)]",
+        "views": opts.views.iter().map(|v| v.name()).collect::<Vec<_>>(),
+        "render": {
+            "size_px": c.size_px,
+            "elevation_deg": c.elevation_deg,
+            "projection": c.projection,
+            "pixel_aspect": c.pixel_aspect,
+            "margin": c.margin,
+            "msaa": opts.render.msaa,
+            "noise_sigma": opts.render.noise_sigma,
+            "noise_seed": "the scene's seed",
+        },
+        "settle": {
+            "dt_s": s.dt_s, "max_time_s": s.max_time_s, "drift_tol_mm": s.drift_tol_mm,
+            "turn_tol_deg": s.turn_tol_deg, "drop_gap_mm": s.drop_gap_mm,
+            "floor_contact_mm": s.floor_contact_mm, "density_kg_m3": s.density_kg_m3,
+            "friction": s.friction, "length_unit_m": s.length_unit_m,
+            "contact_hz": s.contact_hz, "static_contact_hz": s.static_contact_hz,
+            "solver_iterations": s.solver_iterations,
+        },
+    })
+}
+
+fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
+    if opts.count == 0 {
+        return Err(DatasetError::Options("--count must be at least 1".into()));
+    }
+    if opts.families.is_empty() {
+        return Err(DatasetError::Options(
+            "at least one family is needed".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Writes `dataset.json`, or checks that the one there matches these options.
+fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), DatasetError> {
+    let path = dir.join(DATASET_FILE);
+    let wanted = dataset_json(opts);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let found: Value = serde_json::from_str(&text).unwrap_or(Value::Null);
+            if found != wanted {
+                let keys: Vec<String> = wanted
+                    .as_object()
+                    .expect("object")
+                    .iter()
+                    .filter(|(k, v)| found.get(k.as_str()) != Some(v))
+                    .map(|(k, _)| k.clone())
+                    .collect();
+                return Err(DatasetError::OptionsMismatch {
+                    path,
+                    detail: format!("differs in {}", keys.join(", ")),
+                });
+            }
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let mut text = serde_json::to_string_pretty(&wanted).expect("serializes");
+            text.push('\n');
+            // Shards start together: another worker (on Kubernetes, another pod whose process
+            // is also PID 1, so the same temporary name) may win the race; its file is ours.
+            write_atomic(&path, text.as_bytes()).or_else(|e| match std::fs::read_to_string(&path) {
+                Ok(found) if found == text => Ok(()),
+                _ => Err(io_err(&path)(e)),
+            })
+        }
+        Err(e) => Err(io_err(&path)(e)),
+    }
+}
+
+/// Removes temporary files (`.<name>.tmp.<pid>`) an interrupted run left in `dir`, for every
+/// name when `only` is `None`, else for that file name only. Call it only on files this run
+/// owns: other shards may be writing beside it.
+fn remove_temporaries(dir: &Path, only: Option<&str>) -> Result<(), DatasetError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(io_err(dir)(e)),
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_temp = match only {
+            None => name.starts_with('.') && name.contains(".tmp."),
+            Some(file) => name.starts_with(&format!(".{file}.tmp.")),
+        };
+        if is_temp {
+            std::fs::remove_file(entry.path()).map_err(io_err(&entry.path()))?;
+        }
+    }
+    Ok(())
+}
+
+/// The scene's completion record, if it exists, matches `spec` and every file it lists has
+/// its sha256.
+fn completed_entry(scene_dir: &Path, spec: &SceneSpec) -> Option<ManifestEntry> {
+    let text = std::fs::read_to_string(scene_dir.join(DONE_FILE)).ok()?;
+    let entry: ManifestEntry = serde_json::from_str(&text).ok()?;
+    let matches = entry.id == spec.id()
+        && entry.index == spec.index
+        && entry.seed == spec.seed
+        && entry.family == spec.family.name();
+    let intact = entry.files.iter().all(|(name, sha)| {
+        std::fs::read(scene_dir.join(name)).is_ok_and(|bytes| sha256_hex(&bytes) == *sha)
+    });
+    (matches && intact).then_some(entry)
+}
+
+/// Generates, renders and writes one scene; returns its manifest entry.
+fn produce_scene(
+    dir: &Path,
+    spec: &SceneSpec,
+    opts: &DatasetOptions,
+    renderer: Option<&Renderer>,
+) -> Result<SceneOutcome, DatasetError> {
+    let scene_dir = dir.join(spec.id());
+    if let Some(entry) = completed_entry(&scene_dir, spec) {
+        return Ok(SceneOutcome {
+            entry,
+            generated: None,
+        });
+    }
+    let mut times = StageTimes::default();
+    let t = Instant::now();
+    let drawn = draw_stable_scene(spec, &opts.settle)?;
+    times.settle_s = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let views = match (opts.views.is_empty(), renderer) {
+        (true, _) => Vec::new(),
+        (false, None) => return Err(DatasetError::NoRenderer),
+        (false, Some(r)) => {
+            let render_opts = RenderOptions {
+                seed: spec.seed,
+                ..opts.render
+            };
+            r.render_views(&drawn.scene, &opts.views, &render_opts)
+                .map_err(|source| DatasetError::Render {
+                    id: spec.id(),
+                    source,
+                })?
+        }
+    };
+    times.render_s = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    std::fs::create_dir_all(&scene_dir).map_err(io_err(&scene_dir))?;
+    remove_temporaries(&scene_dir, None)?;
+    write_scene(&scene_dir.join(SCENE_FILE), &drawn.scene)?;
+    let mut files = BTreeMap::new();
+    files.insert(
+        SCENE_FILE.to_string(),
+        sha256_hex(scene_to_json(&drawn.scene).as_bytes()),
+    );
+    if !views.is_empty() {
+        let written =
+            crate::output::write_rendered_views(&scene_dir, &views).map_err(io_err(&scene_dir))?;
+        files.extend(written.into_iter().map(|w| (w.name, w.sha256)));
+    }
+    let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {
+        supported: true,
+        reason: None,
+    });
+    let entry = ManifestEntry {
+        id: spec.id(),
+        index: spec.index,
+        family: spec.family.name().to_string(),
+        seed: spec.seed,
+        blocks: drawn.scene.blocks.len(),
+        supported: expect.supported,
+        reason: expect.reason,
+        attempts: drawn.attempts,
+        files,
+    };
+    let done = scene_dir.join(DONE_FILE);
+    write_atomic(&done, entry.to_line().as_bytes()).map_err(io_err(&done))?;
+    times.write_s = t.elapsed().as_secs_f64();
+    Ok(SceneOutcome {
+        entry,
+        generated: Some((times, drawn.unstable, drawn.unplaceable)),
+    })
+}
+
+/// Generates (or resumes) this shard of the dataset in `dir`, in parallel on `opts.jobs`
+/// threads, rendering through the one shared `renderer`. `progress(done, total)` is called
+/// after each scene. Writes the shard's manifest last.
+pub fn generate_dataset(
+    dir: &Path,
+    opts: &DatasetOptions,
+    renderer: Option<&Renderer>,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<GenerateSummary, DatasetError> {
+    check_options(opts)?;
+    if !opts.views.is_empty() && renderer.is_none() {
+        return Err(DatasetError::NoRenderer);
+    }
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let manifest_name = if opts.shard.is_whole() {
+        MANIFEST_NAME.to_string()
+    } else {
+        shard_manifest_name(opts.shard.index, opts.shard.count)
+    };
+    remove_temporaries(dir, Some(&manifest_name))?;
+    write_or_check_dataset_json(dir, opts)?;
+    let specs: Vec<SceneSpec> = opts
+        .shard
+        .indices(opts.count)
+        .map(|i| SceneSpec::new(opts.seed, i, &opts.families))
+        .collect();
+    let total = specs.len() as u64;
+    let done = AtomicU64::new(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.jobs)
+        .build()
+        .map_err(|e| DatasetError::Options(format!("--jobs: {e}")))?;
+    let outcomes: Vec<SceneOutcome> = pool.install(|| {
+        specs
+            .par_iter()
+            .map(|spec| {
+                let out = produce_scene(dir, spec, opts, renderer);
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                out
+            })
+            .collect::<Result<Vec<_>, _>>()
+    })?;
+    let mut summary = GenerateSummary {
+        generated: 0,
+        resumed: 0,
+        unstable_draws: 0,
+        unplaceable_draws: 0,
+        times: StageTimes::default(),
+        manifest: dir.join(manifest_name),
+        entries: Vec::with_capacity(outcomes.len()),
+    };
+    for o in outcomes {
+        match o.generated {
+            Some((times, unstable, unplaceable)) => {
+                summary.generated += 1;
+                summary.unstable_draws += unstable as u64;
+                summary.unplaceable_draws += unplaceable as u64;
+                summary.times.add(&times);
+            }
+            None => summary.resumed += 1,
+        }
+        summary.entries.push(o.entry);
+    }
+    let text = manifest_text(&summary.entries);
+    write_atomic(&summary.manifest, text.as_bytes()).map_err(io_err(&summary.manifest))?;
+    Ok(summary)
+}
+
+/// What a merge found.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MergeSummary {
+    /// Shard manifests joined.
+    pub shards: u64,
+    /// Scenes in the merged manifest.
+    pub scenes: u64,
+    /// The merged manifest's path.
+    pub manifest: PathBuf,
+}
+
+/// Joins `manifest.shard-I-of-N.jsonl` files into `manifest.jsonl`, checking that every shard
+/// and every scene `0..count` is there exactly once and every file has its listed sha256.
+pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
+    let merge_err = |message: String| DatasetError::Merge {
+        path: dir.to_path_buf(),
+        message,
+    };
+    let options_path = dir.join(DATASET_FILE);
+    let options: Value = serde_json::from_str(
+        &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
+    )
+    .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
+    let count = options["count"]
+        .as_u64()
+        .ok_or_else(|| merge_err(format!("{DATASET_FILE} has no count")))?;
+    let shards = find_shard_manifests(dir)?;
+    let n = shards.first().map(|s| s.1).ok_or_else(|| {
+        merge_err(
+            "no manifest.shard-I-of-N.jsonl files; run `blockworld generate --shard I/N` first"
+                .into(),
+        )
+    })?;
+    if let Some(other) = shards.iter().find(|s| s.1 != n) {
+        return Err(merge_err(format!(
+            "shard manifests of different shard counts ({n} and {}); remove the stale ones",
+            other.1
+        )));
+    }
+    let present: Vec<u64> = shards.iter().map(|s| s.0).collect();
+    if let Some(missing) = (0..n).find(|i| !present.contains(i)) {
+        return Err(merge_err(format!(
+            "shard {missing} of {n} is missing; run `blockworld generate ... --shard {missing}/{n}` with the same options"
+        )));
+    }
+    let mut entries: Vec<Option<ManifestEntry>> = vec![None; count as usize];
+    for (i, shard_n, path) in &shards {
+        let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+        for e in parse_manifest(&text, path)? {
+            if e.index >= count || e.index % shard_n != *i {
+                return Err(merge_err(format!(
+                    "{} lists scene {} which is not in shard {i}/{shard_n} of {count} scenes",
+                    path.display(),
+                    e.id
+                )));
+            }
+            let slot = &mut entries[e.index as usize];
+            if slot.is_some() {
+                return Err(merge_err(format!("scene {} is listed twice", e.id)));
+            }
+            *slot = Some(e);
+        }
+    }
+    let missing: Vec<String> = (0..count)
+        .filter(|&i| entries[i as usize].is_none())
+        .map(super::scene_id)
+        .collect();
+    if !missing.is_empty() {
+        return Err(merge_err(format!(
+            "{} scenes missing ({}{}); re-run their shard to resume",
+            missing.len(),
+            missing[..missing.len().min(5)].join(", "),
+            if missing.len() > 5 { ", ..." } else { "" }
+        )));
+    }
+    let entries: Vec<ManifestEntry> = entries.into_iter().flatten().collect();
+    entries.par_iter().try_for_each(|e| verify_entry(dir, e))?;
+    let manifest = dir.join(MANIFEST_NAME);
+    write_atomic(&manifest, manifest_text(&entries).as_bytes()).map_err(io_err(&manifest))?;
+    Ok(MergeSummary {
+        shards: n,
+        scenes: count,
+        manifest,
+    })
+}
+
+/// The shard manifests in `dir` as (I, N, path), sorted.
+fn find_shard_manifests(dir: &Path) -> Result<Vec<(u64, u64, PathBuf)>, DatasetError> {
+    let mut out: Vec<(u64, u64, PathBuf)> = std::fs::read_dir(dir)
+        .map_err(io_err(dir))?
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            parse_shard_manifest_name(&name).map(|(i, n)| (i, n, e.path()))
+        })
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+/// Checks every file of a manifest entry against its sha256.
+fn verify_entry(dir: &Path, e: &ManifestEntry) -> Result<(), DatasetError> {
+    for (name, sha) in &e.files {
+        let path = dir.join(&e.id).join(name);
+        let bytes = std::fs::read(&path).map_err(io_err(&path))?;
+        if sha256_hex(&bytes) != *sha {
+            return Err(DatasetError::Merge {
+                path,
+                message:
+                    "sha256 differs from the shard manifest; re-run its shard to regenerate it"
+                        .into(),
+            });
+        }
+    }
+    Ok(())
+}

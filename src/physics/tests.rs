@@ -1,0 +1,173 @@
+//! Unit tests of settling on scenes a reader can check by eye.
+
+use super::*;
+use crate::scene::scene_to_json;
+
+fn two_layer() -> Scene {
+    Scene::new(
+        "two_layer",
+        vec![
+            Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+            Block::new("b15", DVec3::new(0.0, 22.5, 0.0), 90.0),
+        ],
+    )
+}
+
+/// A b15 on a b15, shifted 10 mm: its centre of mass is 2.5 mm beyond the edge, so it tips.
+fn overhanging() -> Scene {
+    Scene::new(
+        "tips",
+        vec![
+            Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0),
+            Block::new("b15", DVec3::new(10.0, 22.5, 0.0), 0.0),
+        ],
+    )
+}
+
+#[test]
+fn a_two_layer_stack_is_stable_and_snapped_back() {
+    let s = settle(&two_layer(), &SettleParams::default()).unwrap();
+    assert!(s.report.stable, "{:?}", s.report);
+    assert!(s.report.asleep);
+    // rapier leaves the blocks a little into their supports, but well inside the tolerance.
+    assert!(
+        s.report.max_drift_mm > 0.0 && s.report.max_drift_mm < 0.2,
+        "{:?}",
+        s.report
+    );
+    assert!(s.report.max_turn_deg < 0.1);
+    assert!(s.report.blocks[0].touches_floor && !s.report.blocks[1].touches_floor);
+    for (a, b) in s.scene.blocks.iter().zip(&two_layer().blocks) {
+        assert_eq!(a.center_mm, b.center_mm);
+        assert!(matches!(a.orientation, Orientation::Quaternion(_)));
+        assert!(a.rotation().angle_between(b.rotation()) < 1e-12);
+    }
+    assert!(s.scene.meta.as_ref().unwrap().contains_key("settle"));
+    s.scene.validate("settled").unwrap();
+}
+
+#[test]
+fn an_overhanging_block_is_unstable_and_reported() {
+    let params = SettleParams::default();
+    let s = settle(&overhanging(), &params).unwrap();
+    assert!(!s.report.stable);
+    assert!(
+        s.report.moved_blocks(&params).contains(&1),
+        "{:?}",
+        s.report
+    );
+    assert!(s.report.blocks[1].drift_mm > 2.0, "{:?}", s.report);
+    assert!(s.report.blocks[1].turn_deg > 10.0, "{:?}", s.report);
+    let text = s.report.describe_moved(&s.scene, &params);
+    assert!(text.contains("block 1 (b15)"), "{text}");
+    // The drifted poses are written as simulated.
+    assert!(s.scene.blocks[1].center_mm.x > 10.0);
+}
+
+#[test]
+fn a_block_placed_in_the_air_falls_and_touches_the_floor() {
+    let scene = Scene::new(
+        "floating",
+        vec![Block::new("b15", DVec3::new(0.0, 27.5, 0.0), 0.0)],
+    );
+    let params = SettleParams::default();
+    let s = settle(&scene, &params).unwrap();
+    assert!(!s.report.stable);
+    let b = s.report.blocks[0];
+    assert!(
+        b.touches_floor && !b.should_touch_floor && b.drift_mm > 19.0,
+        "{b:?}"
+    );
+}
+
+#[test]
+fn settling_is_bitwise_deterministic() {
+    let a = settle(&overhanging(), &SettleParams::default()).unwrap();
+    let b = settle(&overhanging(), &SettleParams::default()).unwrap();
+    for (x, y) in a.scene.blocks.iter().zip(&b.scene.blocks) {
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        assert_eq!(bits(x.center_mm), bits(y.center_mm));
+        let q = |b: &Block| b.rotation().to_array().map(f64::to_bits);
+        assert_eq!(q(x), q(y));
+    }
+    assert_eq!(a.report.steps, b.report.steps);
+    assert_eq!(
+        a.report.max_drift_mm.to_bits(),
+        b.report.max_drift_mm.to_bits()
+    );
+}
+
+#[test]
+fn settling_a_settled_scene_changes_nothing() {
+    let once = settle(&two_layer(), &SettleParams::default()).unwrap();
+    let twice = settle(&once.scene, &SettleParams::default()).unwrap();
+    assert_eq!(scene_to_json(&once.scene), scene_to_json(&twice.scene));
+}
+
+#[test]
+fn a_turned_block_and_a_wide_stack_are_stable() {
+    let scene = Scene::new(
+        "mixed",
+        vec![
+            Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+            Block::new("b30", DVec3::new(0.0, 7.5, 15.0), 0.0),
+            Block::new("b30", DVec3::new(0.0, 22.5, 7.5), 90.0),
+            Block::new("b7_5", DVec3::new(0.0, 33.75, 7.5), 0.0),
+            Block::new("b15", DVec3::new(40.0, 7.5, 0.0), 30.0),
+        ],
+    );
+    scene.validate("mixed").unwrap();
+    let s = settle(&scene, &SettleParams::default()).unwrap();
+    assert!(s.report.stable, "{:?}", s.report);
+}
+
+#[test]
+fn bad_parameters_are_refused() {
+    let params = SettleParams {
+        dt_s: 0.0,
+        ..SettleParams::default()
+    };
+    assert!(matches!(
+        settle(&two_layer(), &params),
+        Err(PhysicsError::Params(_))
+    ));
+}
+
+#[test]
+fn aligned_towers_of_six_stay_up() {
+    for (id, h) in [("b15", 15.0), ("b7_5", 7.5), ("b30", 15.0)] {
+        let blocks = (0..6)
+            .map(|i| Block::new(id, DVec3::new(0.0, h / 2.0 + h * i as f64, 0.0), 0.0))
+            .collect();
+        let s = settle(&Scene::new("tower", blocks), &SettleParams::default()).unwrap();
+        assert!(s.report.stable, "{id}: {:?}", s.report);
+    }
+}
+
+/// Regression: with f32 quarter-turn quaternions on the bodies, this supported three-layer
+/// stack (a generator draw) shed block 10 by 52 mm; folding the quarter turns into the
+/// colliders keeps it standing.
+#[test]
+fn a_three_layer_stack_with_quarter_turns_stays_up() {
+    let b = |id: &str, x: f64, y: f64, z: f64, yaw: f64| Block::new(id, DVec3::new(x, y, z), yaw);
+    let scene = Scene::new(
+        "three_layer",
+        vec![
+            b("b30", 15.0, 7.5, 7.5, 0.0),
+            b("b15", 37.5, 7.5, 7.5, 0.0),
+            b("b15", 7.5, 7.5, 22.5, 0.0),
+            b("b30", 30.0, 7.5, 22.5, 0.0),
+            b("b30", 60.0, 7.5, 22.5, 0.0),
+            b("b15", 60.0, 22.5, 22.5, 0.0),
+            b("b30", 30.0, 22.5, 15.0, 0.0),
+            b("b15", 7.5, 22.5, 7.5, 90.0),
+            b("b15", 7.5, 22.5, 22.5, 0.0),
+            b("b15", 22.5, 37.5, 15.0, 90.0),
+            b("b15", 37.5, 37.5, 15.0, 90.0),
+            b("b15", 7.5, 37.5, 15.0, 0.0),
+        ],
+    );
+    scene.validate("three_layer").unwrap();
+    let s = settle(&scene, &SettleParams::default()).unwrap();
+    assert!(s.report.stable, "{:?}", s.report);
+}

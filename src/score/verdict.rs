@@ -1,0 +1,180 @@
+//! The score of one reconstruction against its truth: volume IoU, block matching, layers and
+//! the verdict.
+
+use super::matching::{count_layers, match_blocks};
+use super::volume::{volume_overlap, VolumeTolerances};
+use super::ScoreError;
+use crate::scene::{ReconStatus, Scene};
+use serde::{Deserialize, Serialize};
+
+/// Tolerances and bars of [`score_reconstruction_with_options`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScoreOptions {
+    /// Volume computation tolerances.
+    pub volume: VolumeTolerances,
+    /// A matched block's centre lies within this distance of the truth's, mm. Default 3 mm
+    /// (a fifth of a 15 mm block).
+    pub center_tol_mm: f64,
+    /// A matched block's orientation lies within this angle of the truth's modulo the block's
+    /// symmetry, degrees. Default 5°.
+    pub turn_tol_deg: f64,
+    /// Block bottoms within this height share a layer, mm. Default 1 mm.
+    pub layer_tol_mm: f64,
+    /// `exact` needs every block matched and at least this IoU. Default 0.99.
+    pub exact_iou: f64,
+    /// Below this IoU the verdict is `failed`. Default 0.5.
+    pub failed_below_iou: f64,
+}
+
+impl Default for ScoreOptions {
+    fn default() -> Self {
+        ScoreOptions {
+            volume: VolumeTolerances::default(),
+            center_tol_mm: 3.0,
+            turn_tol_deg: 5.0,
+            layer_tol_mm: 1.0,
+            exact_iou: 0.99,
+            failed_below_iou: 0.5,
+        }
+    }
+}
+
+/// The verdict on a reconstruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// Every block matched and IoU ≥ [`ScoreOptions::exact_iou`].
+    Exact,
+    /// Neither exact nor failed.
+    Partial,
+    /// IoU below [`ScoreOptions::failed_below_iou`], or no blocks reconstructed.
+    Failed,
+    /// The recognizer declined the scene (`status: unsupported`).
+    Unsupported,
+}
+
+impl Verdict {
+    /// `exact` or `partial`: the scene was recognized.
+    pub fn is_recognized(self) -> bool {
+        matches!(self, Verdict::Exact | Verdict::Partial)
+    }
+
+    /// The lowercase name used in files and tables.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Exact => "exact",
+            Verdict::Partial => "partial",
+            Verdict::Failed => "failed",
+            Verdict::Unsupported => "unsupported",
+        }
+    }
+}
+
+/// The score of a reconstruction (plain data, serialized by `blockworld score --json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Score {
+    /// volume(truth ∩ recon) / volume(truth ∪ recon).
+    pub iou: f64,
+    /// volume(truth), mm³.
+    pub truth_volume_mm3: f64,
+    /// volume(recon), mm³.
+    pub recon_volume_mm3: f64,
+    /// volume(truth ∩ recon), mm³.
+    pub intersection_volume_mm3: f64,
+    /// Blocks in the truth.
+    pub truth_blocks: usize,
+    /// Blocks in the reconstruction.
+    pub recon_blocks: usize,
+    /// Blocks matched one to one (type, centre and turn within tolerance).
+    pub matched_blocks: usize,
+    /// matched / recon blocks (0 when the reconstruction is empty and the truth is not).
+    pub precision: f64,
+    /// matched / truth blocks.
+    pub recall: f64,
+    /// Harmonic mean of precision and recall.
+    pub f1: f64,
+    /// Mean centre distance of matched blocks, mm; `None` when nothing matched.
+    pub mean_center_error_mm: Option<f64>,
+    /// Layers in the truth (distinct bottom heights).
+    pub truth_layers: usize,
+    /// Layers in the reconstruction.
+    pub recon_layers: usize,
+    /// Whether the layer counts agree.
+    pub layers_right: bool,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The reconstruction's `reason`, if it gave one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// Scores `recon` against `truth` with [`ScoreOptions::default`].
+pub fn score_reconstruction(truth: &Scene, recon: &Scene) -> Result<Score, ScoreError> {
+    score_reconstruction_with_options(truth, recon, &ScoreOptions::default())
+}
+
+/// Scores `recon` against `truth`.
+pub fn score_reconstruction_with_options(
+    truth: &Scene,
+    recon: &Scene,
+    opts: &ScoreOptions,
+) -> Result<Score, ScoreError> {
+    let overlap = volume_overlap(&truth.blocks, &recon.blocks, &opts.volume)?;
+    let iou = overlap.iou();
+    let matches = match_blocks(
+        &truth.blocks,
+        &recon.blocks,
+        opts.center_tol_mm,
+        opts.turn_tol_deg,
+    );
+    let (nt, nr, nm) = (truth.blocks.len(), recon.blocks.len(), matches.len());
+    let ratio = |num: usize, den: usize| {
+        if den == 0 {
+            f64::from(u8::from(num == 0))
+        } else {
+            num as f64 / den as f64
+        }
+    };
+    let precision = if nr == 0 && nt > 0 {
+        0.0
+    } else {
+        ratio(nm, nr)
+    };
+    let recall = ratio(nm, nt);
+    let f1 = if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    };
+    let mean_center_error_mm =
+        (nm > 0).then(|| matches.iter().map(|m| m.center_error_mm).sum::<f64>() / nm as f64);
+    let truth_layers = count_layers(&truth.blocks, opts.layer_tol_mm);
+    let recon_layers = count_layers(&recon.blocks, opts.layer_tol_mm);
+    let verdict = if recon.status == Some(ReconStatus::Unsupported) {
+        Verdict::Unsupported
+    } else if nr == 0 && nt > 0 || iou < opts.failed_below_iou {
+        Verdict::Failed
+    } else if nm == nt && nm == nr && iou >= opts.exact_iou {
+        Verdict::Exact
+    } else {
+        Verdict::Partial
+    };
+    Ok(Score {
+        iou,
+        truth_volume_mm3: overlap.truth_mm3,
+        recon_volume_mm3: overlap.recon_mm3,
+        intersection_volume_mm3: overlap.intersection_mm3,
+        truth_blocks: nt,
+        recon_blocks: nr,
+        matched_blocks: nm,
+        precision,
+        recall,
+        f1,
+        mean_center_error_mm,
+        truth_layers,
+        recon_layers,
+        layers_right: truth_layers == recon_layers,
+        verdict,
+        reason: recon.reason.clone(),
+    })
+}

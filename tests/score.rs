@@ -1,0 +1,162 @@
+//! `blockworld score` end to end (issue #4): files in, table or JSON out, clear errors that name
+//! the file. The exactness of the volumes is tested beside the code (`src/score/tests.rs`).
+
+use std::path::Path;
+use std::process::Command;
+
+fn blockworld(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+const TRUTH: &str = r#"{"name": "two_layer", "expect": {"supported": true},
+  "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
+             {"type": "b15", "center": [-7.5, 22.5, 0]},
+             {"type": "b15", "center": [7.5, 22.5, 0]}]}"#;
+
+#[test]
+fn identical_scene_scores_exact_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.json", TRUTH);
+    let out = blockworld(&["score", &truth, &truth, "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["verdict"], "exact");
+    assert!((v["iou"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+    assert_eq!(v["matched_blocks"], 3);
+    assert_eq!(v["truth_layers"], 2);
+}
+
+#[test]
+fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.json", TRUTH);
+    // The base read twice, overlapping itself: same solid, one extra block.
+    let recon = write(
+        dir.path(),
+        "recon.json",
+        r#"{"name": "r", "status": "ok",
+  "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
+             {"type": "b30", "center": [0.5, 7.5, 0]},
+             {"type": "b15", "center": [-7.5, 22.5, 0]},
+             {"type": "b15", "center": [7.5, 22.5, 0]}]}"#,
+    );
+    let out = blockworld(&["score", &truth, &recon]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("verdict                partial"), "{table}");
+    assert!(table.contains("3 of 3 truth, 4 recon"), "{table}");
+    assert!(
+        table.contains("layers                 2 truth, 2 recon: right"),
+        "{table}"
+    );
+}
+
+#[test]
+fn unsupported_reconstruction_gives_the_unsupported_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.json", TRUTH);
+    let recon = write(
+        dir.path(),
+        "recon.json",
+        r#"{"name": "r", "status": "unsupported", "reason": "upper layer larger", "blocks": []}"#,
+    );
+    let out = blockworld(&["score", &truth, &recon, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["verdict"], "unsupported");
+    assert_eq!(v["reason"], "upper layer larger");
+}
+
+#[test]
+fn bad_input_names_the_file_and_exits_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.json", TRUTH);
+    let bad = write(
+        dir.path(),
+        "broken_recon.json",
+        r#"{"name": "r", "blocks": [{"type": "b45", "center": [0, 0, 0]}]}"#,
+    );
+    let out = blockworld(&["score", &truth, &bad]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("broken_recon.json") && err.contains("b45"),
+        "{err}"
+    );
+    let out = blockworld(&[
+        "score",
+        &dir.path().join("missing.json").display().to_string(),
+        &truth,
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.json"));
+}
+
+#[test]
+fn bench_accuracy_prints_the_family_table_and_writes_json() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = tempfile::tempdir().unwrap();
+    let json_out = dir.path().join("acc.json").display().to_string();
+    let out = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .current_dir(root)
+        .args([
+            "bench",
+            "accuracy",
+            "--recognizer",
+            "golden/recon_reference",
+            "--json-out",
+            &json_out,
+            "--golden",
+            "golden/accuracy.json",
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("family") && stdout.contains("mean IoU") && stdout.contains("flagged"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("gate: ok"), "{stdout}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_out).unwrap()).unwrap();
+    assert!(v["scenes"].as_array().unwrap().len() >= 12);
+    // An empty recognizer directory: every scene fails, supported ones stop being recognized.
+    let empty = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .current_dir(root)
+        .args([
+            "bench",
+            "accuracy",
+            "--recognizer",
+            &empty.path().display().to_string(),
+            "--json-out",
+            &json_out,
+            "--golden",
+            "golden/accuracy.json",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("no longer recognized"));
+}
