@@ -1,0 +1,253 @@
+//! Step 1 of the vision front end: the Sobel edge magnitude (Chapter II, eq. 2.1 with the
+//! Figure 2.7 kernels), 3x3 mean smoothing and a threshold (Chapter VI, "The Effect of the Sobel
+//! Operator"), giving a binary edge map.
+//!
+//! Readings (shared/notes/thesis-reading.md): eq. 2.1b prints `- f(m-1,n+1)`; the Figure 2.7
+//! kernel and symmetry say `+`, which is what is computed here. The border is handled by
+//! repeating the edge pixel, which reproduces the thesis's 3x11 worked example exactly.
+//!
+//! Cost: each step is one pass over the image with a few integer operations per pixel and one
+//! output allocation per image (no per-pixel allocation).
+
+use image::{GrayImage, ImageBuffer, Luma};
+
+/// A 16-bit single-channel image: Sobel magnitudes (0..=1443) and their smoothed values.
+pub type MagnitudeImage = ImageBuffer<Luma<u16>, Vec<u16>>;
+
+/// Which 3x3 window the smoothing averages (Chapter VI).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SmoothWindow {
+    /// Rows `i-1..=i+1`, columns `j-1..=j+1`: the window centred on the pixel. The default,
+    /// because it does not move edges.
+    #[default]
+    Centred,
+    /// Rows `i-1..=i+1`, columns `j-2..=j`: the window that reproduces the thesis's smoothed
+    /// 3x11 table value for value (its edges sit one column right of the centred result).
+    Trailing,
+}
+
+/// Options of the edge detector (Chapter II, VI).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EdgeOptions {
+    /// A smoothed magnitude strictly above this is an edge pixel. Default 80, the value the
+    /// thesis used for its Figures 6.5 and 6.6 (Ch. VI); its worked 3x11 example uses 60.
+    pub threshold: u16,
+    /// Which 3x3 window smooths the magnitude; default [`SmoothWindow::Centred`].
+    pub window: SmoothWindow,
+}
+
+impl Default for EdgeOptions {
+    fn default() -> Self {
+        EdgeOptions {
+            threshold: 80,
+            window: SmoothWindow::Centred,
+        }
+    }
+}
+
+/// Clamped neighbour indices `(i-1, i, i+1)` of `i` in `0..n` (edge pixel repeated).
+#[inline]
+fn around(i: usize, n: usize) -> (usize, usize, usize) {
+    (i.saturating_sub(1), i, (i + 1).min(n - 1))
+}
+
+/// The Sobel edge magnitude `sqrt(dx^2 + dy^2)` of eq. 2.1, with the symmetric kernels of
+/// Figure 2.7 (eq. 2.1b's sign typo is not followed), rounded to the nearest integer. Border
+/// pixels repeat the edge pixel. A step of `d` gray levels gives `4 d` on both sides of it (the
+/// thesis's 100 -> 50 step gives 200, Ch. VI).
+pub fn sobel_magnitude(image: &GrayImage) -> MagnitudeImage {
+    let (w, h) = image.dimensions();
+    let (wu, hu) = (w as usize, h as usize);
+    let mut out = vec![0u16; wu * hu];
+    if wu == 0 || hu == 0 {
+        return MagnitudeImage::from_raw(w, h, out).unwrap_or_default();
+    }
+    let src = image.as_raw();
+    for y in 0..hu {
+        let (ya, _, yb) = around(y, hu);
+        let (ra, r, rb) = (
+            &src[ya * wu..][..wu],
+            &src[y * wu..][..wu],
+            &src[yb * wu..][..wu],
+        );
+        let row = &mut out[y * wu..][..wu];
+        // Border columns repeat the edge pixel.
+        for x in [0, wu - 1] {
+            let (xa, _, xb) = around(x, wu);
+            row[x] = sobel_at(
+                [ra[xa], ra[x], ra[xb]],
+                [r[xa], r[xb]],
+                [rb[xa], rb[x], rb[xb]],
+            );
+        }
+        // Interior: fixed 3-wide windows, no clamping, no bounds checks in the loop.
+        if wu >= 3 {
+            let windows = ra
+                .windows(3)
+                .zip(r.windows(3))
+                .zip(rb.windows(3))
+                .zip(row[1..wu - 1].iter_mut());
+            for (((a, m), b), o) in windows {
+                *o = sobel_at([a[0], a[1], a[2]], [m[0], m[2]], [b[0], b[1], b[2]]);
+            }
+        }
+    }
+    MagnitudeImage::from_raw(w, h, out).unwrap_or_default()
+}
+
+/// Eq. 2.1 on one 3x3 neighbourhood: the row above, the left and right neighbours, the row
+/// below (the centre pixel has weight 0 in both kernels).
+#[inline(always)]
+fn sobel_at(above: [u8; 3], sides: [u8; 2], below: [u8; 3]) -> u16 {
+    let v = |x: u8| i32::from(x);
+    // dx: right column minus left column (Figure 2.7, left kernel).
+    let dx = (v(above[2]) + 2 * v(sides[1]) + v(below[2]))
+        - (v(above[0]) + 2 * v(sides[0]) + v(below[0]));
+    // dy: top row minus bottom row (Figure 2.7, right kernel).
+    let dy = (v(above[0]) + 2 * v(above[1]) + v(above[2]))
+        - (v(below[0]) + 2 * v(below[1]) + v(below[2]));
+    // `+ 0.5` then truncation rounds half up (the value is never negative) without a libm call.
+    (((dx * dx + dy * dy) as f32).sqrt() + 0.5) as u16
+}
+
+/// The 3x3 mean of `magnitude` (Chapter VI: "replacing the value of every pixel with the average
+/// of the 3x3 pixels of its neighborhood"), rounded to the nearest integer, edge pixels repeated.
+/// [`SmoothWindow::Trailing`] reproduces the thesis's table; [`SmoothWindow::Centred`] (default)
+/// does not shift edges.
+pub fn smooth_3x3(magnitude: &MagnitudeImage, window: SmoothWindow) -> MagnitudeImage {
+    let (w, h) = magnitude.dimensions();
+    let (wu, hu) = (w as usize, h as usize);
+    let mut out = vec![0u16; wu * hu];
+    if wu == 0 || hu == 0 {
+        return MagnitudeImage::from_raw(w, h, out).unwrap_or_default();
+    }
+    let src = magnitude.as_raw();
+    // Pass 1: horizontal 3-sums of every row (at most 3 * 1443, fits u16).
+    let mut sums = vec![0u16; wu * hu];
+    for (r, dst) in src.chunks_exact(wu).zip(sums.chunks_exact_mut(wu)) {
+        let at = |i: usize| r[i];
+        for x in [0, 1, wu - 1] {
+            if x < wu {
+                let (a, b, c) = match window {
+                    SmoothWindow::Centred => around(x, wu),
+                    SmoothWindow::Trailing => (x.saturating_sub(2), x.saturating_sub(1), x),
+                };
+                dst[x] = at(a) + at(b) + at(c);
+            }
+        }
+        if wu >= 3 {
+            let body = r.windows(3).map(|t| t[0] + t[1] + t[2]);
+            match window {
+                // Centred: column x sums x-1..=x+1, for x in 1..w-1.
+                SmoothWindow::Centred => dst[1..wu - 1]
+                    .iter_mut()
+                    .zip(body)
+                    .for_each(|(d, v)| *d = v),
+                // Trailing: column x sums x-2..=x, for x in 2..w.
+                SmoothWindow::Trailing => dst[2..].iter_mut().zip(body).for_each(|(d, v)| *d = v),
+            }
+        }
+    }
+    // Pass 2: vertical 3-sums, rounded mean.
+    for y in 0..hu {
+        let (ya, _, yb) = around(y, hu);
+        let (a, m, b) = (
+            &sums[ya * wu..][..wu],
+            &sums[y * wu..][..wu],
+            &sums[yb * wu..][..wu],
+        );
+        let row = &mut out[y * wu..][..wu];
+        for (((o, &a), &m), &b) in row.iter_mut().zip(a).zip(m).zip(b) {
+            *o = ((u32::from(a) + u32::from(m) + u32::from(b) + 4) / 9) as u16;
+        }
+    }
+    MagnitudeImage::from_raw(w, h, out).unwrap_or_default()
+}
+
+/// The binary edge map (Chapter II "Threshold"): 1 where `smoothed > threshold`, else 0.
+pub fn threshold(smoothed: &MagnitudeImage, threshold: u16) -> GrayImage {
+    let (w, h) = smoothed.dimensions();
+    let out = smoothed
+        .as_raw()
+        .iter()
+        .map(|&v| u8::from(v > threshold))
+        .collect();
+    GrayImage::from_raw(w, h, out).unwrap_or_default()
+}
+
+/// Step 1 of the front end in one call: Sobel, smoothing, threshold. Returns the smoothed
+/// magnitude and the binary edge map (values 0 and 1).
+pub fn detect_edges(image: &GrayImage, opts: &EdgeOptions) -> (MagnitudeImage, GrayImage) {
+    let smoothed = smooth_3x3(&sobel_magnitude(image), opts.window);
+    let edges = threshold(&smoothed, opts.threshold);
+    (smoothed, edges)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The thesis's 3x11 ideal image (Ch. VI): three identical rows.
+    fn ideal_3x11() -> GrayImage {
+        let row = [100u8, 100, 100, 50, 50, 50, 50, 100, 100, 100, 100];
+        GrayImage::from_fn(11, 3, |x, _| Luma([row[x as usize]]))
+    }
+
+    fn rows<P: image::Primitive>(img: &ImageBuffer<Luma<P>, Vec<P>>) -> Vec<Vec<P>> {
+        img.as_raw()
+            .chunks(img.width() as usize)
+            .map(|r| r.to_vec())
+            .collect()
+    }
+
+    #[test]
+    fn chapter_vi_3x11_example_value_for_value() {
+        let sobel = sobel_magnitude(&ideal_3x11());
+        let want_sobel = vec![0u16, 0, 200, 200, 0, 0, 200, 200, 0, 0, 0];
+        assert_eq!(rows(&sobel), vec![want_sobel; 3]);
+
+        let trailing = smooth_3x3(&sobel, SmoothWindow::Trailing);
+        let want_smooth = vec![0u16, 0, 67, 133, 133, 67, 67, 133, 133, 67, 0];
+        assert_eq!(rows(&trailing), vec![want_smooth.clone(); 3]);
+
+        // The centred window gives the same numbers one column to the left.
+        let centred = smooth_3x3(&sobel, SmoothWindow::Centred);
+        let mut shifted = want_smooth[1..].to_vec();
+        shifted.push(0);
+        assert_eq!(rows(&centred), vec![shifted; 3]);
+
+        let binary = threshold(&trailing, 60);
+        let want_binary = vec![0u8, 0, 1, 1, 1, 1, 1, 1, 1, 1, 0];
+        assert_eq!(rows(&binary), vec![want_binary; 3]);
+    }
+
+    #[test]
+    fn vertical_step_uses_the_dy_kernel_and_constant_image_has_no_edges() {
+        // A horizontal edge: top rows 10, bottom rows 60 -> dy magnitude 4 * 50 = 200.
+        let img = GrayImage::from_fn(5, 6, |_, y| Luma([if y < 3 { 10 } else { 60 }]));
+        let m = sobel_magnitude(&img);
+        assert_eq!(m.get_pixel(2, 2).0[0], 200);
+        assert_eq!(m.get_pixel(2, 3).0[0], 200);
+        assert_eq!(m.get_pixel(2, 0).0[0], 0);
+        let flat = GrayImage::from_pixel(7, 4, Luma([123]));
+        let (_, e) = detect_edges(&flat, &EdgeOptions::default());
+        assert!(e.as_raw().iter().all(|&v| v == 0));
+        // A diagonal step: the magnitude is the Euclidean norm of both kernels.
+        let diag = GrayImage::from_fn(3, 3, |x, y| Luma([if x + y < 2 { 0 } else { 100 }]));
+        // Right column 100, 100, 100; left column 0, 0, 100; top row 0, 0, 100; bottom 100s.
+        let dx = 400 - 100;
+        let dy = 100 - 400;
+        let want = ((dx * dx + dy * dy) as f64).sqrt().round() as u16;
+        assert_eq!(sobel_magnitude(&diag).get_pixel(1, 1).0[0], want);
+    }
+
+    #[test]
+    fn empty_and_one_pixel_images_do_not_panic() {
+        for (w, h) in [(0, 0), (1, 1), (1, 5), (5, 1), (0, 3)] {
+            let img = GrayImage::new(w, h);
+            let (s, e) = detect_edges(&img, &EdgeOptions::default());
+            assert_eq!(s.dimensions(), (w, h));
+            assert_eq!(e.dimensions(), (w, h));
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! Step 3 of the vision front end: vertices where fitted lines meet, and the line drawing with
+//! each vertex's six-bit code and junction class (Chapter IV "Six-Bit Coding Method", Chapter V;
+//! Chapter VI: "A vertex is found by solving the equations of two lines").
+//!
+//! A segment's end is joined to another line when the two lines' intersection lies within
+//! `join_radius_px` of that end (the edge map's band makes a segment stop a few pixels short of
+//! the true corner) and within the other segment's extent (plus the same slack). Intersections
+//! that share a segment end, or lie within `merge_radius_px` of each other, are one vertex,
+//! placed at the point nearest (in least squares) to all its lines. A vertex on the interior of
+//! another line splits it there: that is how the thesis's collinear "T" appears (Ch. V,
+//! Figure 5.1). An end joined to nothing is a vertex of its own (junction "end").
+
+use super::lines::FittedLine;
+use crate::drawing::LineDrawing;
+use crate::geom::DVec2;
+
+/// Options of the vertex finder, in picture pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VertexOptions {
+    /// A segment end joins a line whose intersection lies this close to it. Default 7.0.
+    pub join_radius_px: f64,
+    /// Junction points closer than this are merged. Default 3.0.
+    pub merge_radius_px: f64,
+    /// A vertex this close to another line's interior splits that line. Default 2.0.
+    pub on_line_px: f64,
+}
+
+impl Default for VertexOptions {
+    fn default() -> Self {
+        VertexOptions {
+            join_radius_px: 7.0,
+            merge_radius_px: 3.0,
+            on_line_px: 2.0,
+        }
+    }
+}
+
+/// Intersection of the infinite lines of `a` and `b`; `None` when (nearly) parallel.
+fn intersect(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
+    let den = a.direction.perp_dot(b.direction);
+    if den.abs() < 0.05 {
+        return None;
+    }
+    let t = (b.centroid_px - a.centroid_px).perp_dot(b.direction) / den;
+    Some(a.centroid_px + a.direction * t)
+}
+
+/// Union-find over junction candidates.
+struct Sets(Vec<usize>);
+
+impl Sets {
+    fn find(&mut self, mut i: usize) -> usize {
+        while self.0[i] != i {
+            self.0[i] = self.0[self.0[i]];
+            i = self.0[i];
+        }
+        i
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            self.0[a.max(b)] = a.min(b);
+        }
+    }
+}
+
+/// The point nearest in least squares to all `lines` (by index into `all`); the mean of
+/// `fallback` when the lines are (nearly) parallel.
+fn nearest_point(all: &[FittedLine], lines: &[usize], fallback: &[DVec2]) -> DVec2 {
+    let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &i in lines {
+        let n = all[i].direction.perp();
+        let c = n.dot(all[i].centroid_px);
+        a11 += n.x * n.x;
+        a12 += n.x * n.y;
+        a22 += n.y * n.y;
+        b1 += n.x * c;
+        b2 += n.y * c;
+    }
+    let det = a11 * a22 - a12 * a12;
+    if det.abs() > 1e-6 {
+        DVec2::new((b1 * a22 - b2 * a12) / det, (a11 * b2 - a12 * b1) / det)
+    } else {
+        fallback.iter().fold(DVec2::ZERO, |s, p| s + *p) / fallback.len().max(1) as f64
+    }
+}
+
+/// One junction candidate: an intersection near the end `end` (0 or 1) of line `line`.
+#[derive(Clone, Copy)]
+struct Candidate {
+    line: usize,
+    end: usize,
+    other: usize,
+    p: DVec2,
+}
+
+/// Builds the line drawing of `lines` (picture px): vertices at joined ends and intersections,
+/// lines split at vertices on their interior, then [`LineDrawing::finalize`] computes each
+/// vertex's six-bit code (Chapter IV bit order) and junction class. Deterministic.
+pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
+    let kept = drop_junction_blobs(lines, opts);
+    build_drawing(&kept, opts)
+}
+
+/// Drops short segments that sit inside a junction of other lines: shorter than twice the join
+/// radius, with two other (non-parallel) lines meeting within the join radius of its midpoint.
+/// Under sensor noise the edge pixels at an arrow or fork junction can line up into such a
+/// stub, which would pull the vertex off the corner.
+fn drop_junction_blobs(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLine> {
+    let inside_junction = |i: usize| {
+        let s = &lines[i];
+        if s.length_px() >= 2.0 * opts.join_radius_px {
+            return false;
+        }
+        let mid = (s.from_px + s.to_px) / 2.0;
+        let near = |l: &FittedLine| {
+            l.signed_distance_px(mid).abs() <= opts.join_radius_px && l.length_px() > s.length_px()
+        };
+        let others: Vec<&FittedLine> = lines
+            .iter()
+            .enumerate()
+            .filter(|&(j, l)| j != i && l.orientation != s.orientation && near(l))
+            .map(|(_, l)| l)
+            .collect();
+        others.iter().enumerate().any(|(a, la)| {
+            others[a + 1..].iter().any(|lb| {
+                la.orientation != lb.orientation
+                    && intersect(la, lb).is_some_and(|p| p.distance(mid) <= opts.join_radius_px)
+            })
+        })
+    };
+    (0..lines.len())
+        .filter(|&i| !inside_junction(i))
+        .map(|i| lines[i])
+        .collect()
+}
+
+/// Builds the drawing from the kept lines (see [`find_vertices`]).
+fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
+    let ends = |l: &FittedLine| [l.from_px, l.to_px];
+    // 1. Candidates: intersections near a segment end and on (or near) the other segment.
+    let mut cands: Vec<Candidate> = Vec::new();
+    for (i, a) in lines.iter().enumerate() {
+        for (j, b) in lines.iter().enumerate() {
+            if i == j {
+                continue;
+            }
+            let Some(p) = intersect(a, b) else { continue };
+            let tb = b.along_px(p);
+            let (b0, b1) = (b.along_px(b.from_px), b.along_px(b.to_px));
+            if tb < b0 - opts.join_radius_px || tb > b1 + opts.join_radius_px {
+                continue;
+            }
+            for (e, q) in ends(a).into_iter().enumerate() {
+                if q.distance(p) <= opts.join_radius_px {
+                    cands.push(Candidate {
+                        line: i,
+                        end: e,
+                        other: j,
+                        p,
+                    });
+                }
+            }
+        }
+    }
+    // 2. Group: candidates sharing a segment end, or close together, are one vertex.
+    let mut sets = Sets((0..cands.len()).collect());
+    let mut by_end: Vec<Option<usize>> = vec![None; lines.len() * 2];
+    for (ci, c) in cands.iter().enumerate() {
+        let key = c.line * 2 + c.end;
+        match by_end[key] {
+            Some(first) => sets.union(first, ci),
+            None => by_end[key] = Some(ci),
+        }
+    }
+    for a in 0..cands.len() {
+        for b in a + 1..cands.len() {
+            if cands[a].p.distance(cands[b].p) <= opts.merge_radius_px {
+                sets.union(a, b);
+            }
+        }
+    }
+    // 3. One vertex per group, at the least-squares point of its lines.
+    let mut root_to_vertex: Vec<Option<usize>> = vec![None; cands.len()];
+    let mut members: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
+    for (ci, cand) in cands.iter().enumerate() {
+        let r = sets.find(ci);
+        let v = *root_to_vertex[r].get_or_insert_with(|| {
+            members.push((Vec::new(), Vec::new()));
+            members.len() - 1
+        });
+        let (ls, ps) = &mut members[v];
+        for l in [cand.line, cand.other] {
+            if !ls.contains(&l) {
+                ls.push(l);
+            }
+        }
+        ps.push(cand.p);
+    }
+    let mut points: Vec<DVec2> = members
+        .iter()
+        .map(|(ls, ps)| nearest_point(lines, ls, ps))
+        .collect();
+    // 3b. Crossings: two lines passing through each other away from their ends (an X
+    // junction, e.g. where the cracks between four flush blocks meet) are a vertex too.
+    for (i, a) in lines.iter().enumerate() {
+        for b in &lines[i + 1..] {
+            let Some(p) = intersect(a, b) else { continue };
+            let inside = |l: &FittedLine| {
+                let t = l.along_px(p);
+                t > l.along_px(l.from_px) + opts.join_radius_px
+                    && t < l.along_px(l.to_px) - opts.join_radius_px
+            };
+            if inside(a) && inside(b) && points.iter().all(|q| q.distance(p) > opts.merge_radius_px)
+            {
+                points.push(p);
+            }
+        }
+    }
+    // 4. Attach vertices to lines: at an end (candidate of that end), or on the interior.
+    let mut on_line: Vec<Vec<(f64, usize)>> = vec![Vec::new(); lines.len()];
+    let mut end_vertex: Vec<Option<usize>> = vec![None; lines.len() * 2];
+    for (ci, c) in cands.iter().enumerate() {
+        let v = root_to_vertex[sets.find(ci)].unwrap_or(0);
+        end_vertex[c.line * 2 + c.end] = Some(v);
+    }
+    for (li, l) in lines.iter().enumerate() {
+        for e in 0..2 {
+            let v = match end_vertex[li * 2 + e] {
+                Some(v) => v,
+                None => {
+                    points.push(ends(l)[e]);
+                    points.len() - 1
+                }
+            };
+            end_vertex[li * 2 + e] = Some(v);
+            on_line[li].push((l.along_px(points[v]), v));
+        }
+    }
+    for (li, l) in lines.iter().enumerate() {
+        let (t0, t1) = (l.along_px(l.from_px), l.along_px(l.to_px));
+        for (v, p) in points.iter().enumerate() {
+            if on_line[li].iter().any(|&(_, w)| w == v) {
+                continue;
+            }
+            let t = l.along_px(*p);
+            if l.signed_distance_px(*p).abs() <= opts.on_line_px && t > t0 && t < t1 {
+                on_line[li].push((t, v));
+            }
+        }
+    }
+    // 5. Lines between consecutive vertices along each fitted line.
+    let mut drawing_lines: Vec<[usize; 2]> = Vec::new();
+    for vs in &mut on_line {
+        vs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for pair in vs.windows(2) {
+            let (a, b) = (pair[0].1, pair[1].1);
+            let key = [a.min(b), a.max(b)];
+            if a != b && !drawing_lines.contains(&key) {
+                drawing_lines.push(key);
+            }
+        }
+    }
+    compact(points, drawing_lines)
+}
+
+/// Drops points no line uses and finalizes the drawing.
+fn compact(points: Vec<DVec2>, lines: Vec<[usize; 2]>) -> LineDrawing {
+    let mut used = vec![usize::MAX; points.len()];
+    let mut kept = Vec::new();
+    for &[a, b] in &lines {
+        for v in [a, b] {
+            if used[v] == usize::MAX {
+                used[v] = kept.len();
+                kept.push(points[v]);
+            }
+        }
+    }
+    let mut d = LineDrawing {
+        points: kept,
+        lines: lines.iter().map(|&[a, b]| [used[a], used[b]]).collect(),
+        ..Default::default()
+    };
+    d.finalize();
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::Junction;
+
+    fn seg(k: usize, a: DVec2, b: DVec2) -> FittedLine {
+        let d = (b - a).normalize();
+        FittedLine {
+            orientation: k,
+            centroid_px: (a + b) / 2.0,
+            direction: d,
+            from_px: a,
+            to_px: b,
+            support: 20,
+            rms_px: 0.3,
+        }
+    }
+
+    #[test]
+    fn three_short_segments_meet_in_a_fork_with_code_22() {
+        let o = DVec2::new(100.0, 100.0);
+        let r = DVec2::new(0.866, 0.5);
+        let l = DVec2::new(-0.866, 0.5);
+        // Each stops 3 px short of the corner, as edge-map bands do.
+        let lines = [
+            seg(0, o - DVec2::Y * 40.0, o - DVec2::Y * 3.0),
+            seg(1, o + r * 3.0, o + r * 40.0),
+            seg(2, o + l * 3.0, o + l * 40.0),
+        ];
+        let d = find_vertices(&lines, &VertexOptions::default());
+        assert_eq!(d.points.len(), 4);
+        assert_eq!(d.lines.len(), 3);
+        let centre = d
+            .points
+            .iter()
+            .position(|p| p.distance(o) < 1e-6)
+            .expect("fork found");
+        // down + left-up + right-up = 2 + 4 + 16.
+        assert_eq!(d.codes[centre].0, 22);
+        assert_eq!(d.junctions[centre], Junction::Fork);
+    }
+
+    #[test]
+    fn a_stem_ending_on_a_bar_makes_a_t() {
+        let bar = seg(1, DVec2::new(0.0, 0.0), DVec2::new(86.6, 50.0));
+        let foot = DVec2::new(43.3, 25.0);
+        let stem = seg(0, foot + DVec2::Y * 4.0, foot + DVec2::Y * 40.0);
+        let d = find_vertices(&[bar, stem], &VertexOptions::default());
+        assert_eq!(d.lines.len(), 3, "{d:?}");
+        let t = d
+            .points
+            .iter()
+            .position(|p| p.distance(foot) < 1e-6)
+            .expect("T found");
+        assert_eq!(d.junctions[t], Junction::T);
+        assert_eq!(d.junctions[t].thesis_class(), "T");
+    }
+}
