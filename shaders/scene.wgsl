@@ -11,7 +11,8 @@ struct Frame {
     clip_from_world: mat4x4<f32>,
     // Third row of Camera::view_from_world: depth_mm = -dot(view_z_row, vec4(p, 1)).
     view_z_row: vec4<f32>,
-    // A fragment is seam when it lies closer than this to an edge line of its face, in px.
+    // A fragment is seam when it lies closer than this to an edge line of its face, in px
+    // (silhouette edges also darken the nearest pixel on the face's side; see is_seam).
     seam_half_width_px: f32,
     // Gray level of the seam, 0..255.
     seam_level: f32,
@@ -65,12 +66,19 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return out;
 }
 
-fn line_px(l: vec3<f32>, f: vec2<f32>) -> f32 {
-    return abs(l.x * f.x + l.y * f.y + l.z);
+// Whether the pixel centre `f` is seam for edge line `l`: within the half width of the line,
+// or, for a silhouette edge (its line scaled by 2, so |l.xy| = 2), the nearest pixel centre on
+// the face's side in its row or column (one step along the axis closest to the line's normal
+// crosses the line).
+fn seam_of_line(l: vec3<f32>, f: vec2<f32>) -> bool {
+    let n = length(l.xy);
+    let d = abs(l.x * f.x + l.y * f.y + l.z) / n;
+    let step_px = max(abs(l.x), abs(l.y)) / n;
+    return d < frame.seam_half_width_px || (n > 1.5 && d < step_px);
 }
 
-// Distance in px from the pixel centre to the nearest edge line of the fragment's face.
-fn nearest_edge_px(in: VertexOut) -> f32 {
+// Whether the fragment's pixel centre is seam for any edge of its face.
+fn is_seam(in: VertexOut) -> bool {
     let f = in.clip.xy;
     let u0 = in.lines_0;
     let u1 = in.lines_1;
@@ -78,16 +86,15 @@ fn nearest_edge_px(in: VertexOut) -> f32 {
     let u3 = in.lines_3;
     let u4 = in.lines_4;
     let u5 = in.lines_5;
-    let m0 = min(line_px(u0.xyz, f), line_px(vec3<f32>(u0.w, u1.xy), f));
-    let m1 = min(line_px(vec3<f32>(u1.zw, u2.x), f), line_px(u2.yzw, f));
-    let m2 = min(line_px(u3.xyz, f), line_px(vec3<f32>(u3.w, u4.xy), f));
-    let m3 = min(line_px(vec3<f32>(u4.zw, u5.x), f), line_px(u5.yzw, f));
-    return min(min(m0, m1), min(m2, m3));
+    let s0 = seam_of_line(u0.xyz, f) || seam_of_line(vec3<f32>(u0.w, u1.xy), f);
+    let s1 = seam_of_line(vec3<f32>(u1.zw, u2.x), f) || seam_of_line(u2.yzw, f);
+    let s2 = seam_of_line(u3.xyz, f) || seam_of_line(vec3<f32>(u3.w, u4.xy), f);
+    let s3 = seam_of_line(vec3<f32>(u4.zw, u5.x), f) || seam_of_line(u5.yzw, f);
+    return s0 || s1 || s2 || s3;
 }
 
 fn gray_of(in: VertexOut) -> vec4<f32> {
-    let seam = nearest_edge_px(in) < frame.seam_half_width_px;
-    let level = select(f32(in.shade.x), frame.seam_level, seam);
+    let level = select(f32(in.shade.x), frame.seam_level, is_seam(in));
     return vec4<f32>(level / 255.0, 0.0, 0.0, 1.0);
 }
 

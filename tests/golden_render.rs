@@ -280,8 +280,11 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
                     .iter()
                     .map(|(s, e)| dist_to_segment(p, *s, *e))
                     .fold(f64::INFINITY, f64::min);
+                // At most 1 px: the crack is a silhouette edge of the block whose inner face
+                // turns away, which also darkens the nearest pixel on its side
+                // (render::SEAM_HALF_WIDTH_PX).
                 assert!(
-                    d <= 0.75,
+                    d <= 1.0,
                     "{view:?}: pixel ({x}, {row}) differs {d:.2} px from any crack"
                 );
                 assert_eq!(a.gray.get_pixel(x, row)[0], SEAM_LEVEL);

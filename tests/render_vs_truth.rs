@@ -162,11 +162,45 @@ fn scenes() -> Vec<Scene> {
             ],
         ),
     ];
-    let sample = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thesis_sample.json");
-    if let Ok(s) = read_scene(&sample) {
-        out.push(s);
-    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    out.push(read_scene(&root.join("scenes/thesis_sample.json")).unwrap());
     out
+}
+
+/// The accuracy suite's settled scenes (`scenes/bench/*.json`), sorted by name.
+fn suite_scenes() -> Vec<Scene> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bench");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    paths.sort();
+    paths.iter().map(|p| read_scene(p).unwrap()).collect()
+}
+
+#[test]
+fn the_accuracy_suite_renders_every_truth_line_and_only_those() {
+    let Some(r) = renderer() else { return };
+    let opts = RenderOptions::default();
+    let scenes = suite_scenes();
+    assert!(scenes.len() >= 60, "the suite has {} scenes", scenes.len());
+    let mut failures = Vec::new();
+    for scene in scenes {
+        for view in CornerView::ALL {
+            let v = r.render(&scene, view, &opts).unwrap();
+            for p in check_view(&v.gray, &v.lines) {
+                failures.push(format!("{} {}: {p}", scene.name, view.name()));
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} views disagree:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 #[test]

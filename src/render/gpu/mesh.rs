@@ -14,8 +14,9 @@ use crate::scene::Scene;
 /// (catalog faces have 4; the Chapter VII wedge has at most 4 too).
 pub const MAX_FACE_EDGES: usize = 8;
 
-/// Line written for unused edge slots and for the floor: `0 x + 0 y + 1e9`, far beyond any seam.
-const NO_EDGE_LINE: [f32; 3] = [0.0, 0.0, 1.0e9];
+/// Line written for unused edge slots and for the floor: `x + 1e9 = 0`, far beyond any seam
+/// (a unit normal, so the shader never divides by zero).
+const NO_EDGE_LINE: [f32; 3] = [1.0, 0.0, 1.0e9];
 
 /// Ambient share of the light (faces turned away from the light get only this).
 pub const AMBIENT: f64 = 0.25;
@@ -39,7 +40,8 @@ pub struct Vertex {
     /// World position, mm.
     pub position_mm: [f32; 3],
     /// The face's projected edge lines `(a, b, c)` in framebuffer px (x right, y down, pixel
-    /// centres at +0.5), normalised so `|a x + b y + c|` is the distance in px; the same for
+    /// centres at +0.5), normalised so `|a x + b y + c|` is the distance in px, then doubled for
+    /// silhouette edges (see `seam_scales`); the same for
     /// every vertex of the face. [`NO_EDGE_LINE`] for unused slots, the floor, and faces that
     /// reach behind the near plane.
     pub edge_lines_px: [[f32; 3]; MAX_FACE_EDGES],
@@ -98,7 +100,8 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
             }
             let corners: Vec<DVec3> = face.iter().map(|&k| world[k as usize]).collect();
             let level = face_gray_level(block.world_face_normal(f), BLOCK_ALBEDO, camera);
-            push_face(&mut out, &corners, camera, level, index as u32 + 1);
+            let scales = seam_scales(block, f, &world, camera);
+            push_face(&mut out, &corners, &scales, camera, level, index as u32 + 1);
         }
     }
     // The floor last: the depth test then rejects its fragments behind blocks before shading.
@@ -128,9 +131,67 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
     }
 }
 
+/// Whether a face with outward `normal` through `point_mm` turns towards the camera.
+fn faces_camera(normal: DVec3, point_mm: DVec3, camera: &Camera) -> bool {
+    let towards = if camera.is_orthographic() {
+        camera.towards_eye()
+    } else {
+        camera.eye() - point_mm
+    };
+    normal.dot(towards) > 0.0
+}
+
+/// Scale of a silhouette edge's line `(a, b, c)`: the shader reads `a^2 + b^2 = 4` as the
+/// silhouette flag (`shaders/scene.wgsl`, `is_seam`).
+const SILHOUETTE_LINE_SCALE: f64 = 2.0;
+
+/// Per edge of face `f` of `block`, the factor its line is scaled by: 1 for an edge whose other
+/// face also turns towards the camera (that face draws the other half of the seam),
+/// [`SILHOUETTE_LINE_SCALE`] for a silhouette edge of the block, whose far side belongs to
+/// whatever lies behind, possibly a face of the same gray level: the shader then also darkens
+/// the nearest pixel on the block's side (see `render::SEAM_HALF_WIDTH_PX`).
+fn seam_scales(
+    block: &crate::scene::Block,
+    f: usize,
+    world: &[DVec3],
+    camera: &Camera,
+) -> [f64; MAX_FACE_EDGES] {
+    let faces = block.block_type.faces;
+    let face = faces[f];
+    let mut scales = [1.0; MAX_FACE_EDGES];
+    for k in 0..face.len().min(MAX_FACE_EDGES) {
+        let (a, b) = (face[k], face[(k + 1) % face.len()]);
+        let neighbour =
+            (0..faces.len()).find(|&g| g != f && faces[g].contains(&a) && faces[g].contains(&b));
+        let silhouette = neighbour.is_none_or(|g| {
+            !faces_camera(
+                block.world_face_normal(g),
+                world[faces[g][0] as usize],
+                camera,
+            )
+        });
+        if silhouette {
+            scales[k] = SILHOUETTE_LINE_SCALE;
+        }
+    }
+    scales
+}
+
 /// Fan-triangulates the convex polygon `corners` (counter-clockwise seen from outside).
-fn push_face(out: &mut Vec<Vertex>, corners: &[DVec3], camera: &Camera, level: u8, id: u32) {
-    let lines = edge_lines_px(corners, camera);
+fn push_face(
+    out: &mut Vec<Vertex>,
+    corners: &[DVec3],
+    seam_scales: &[f64; MAX_FACE_EDGES],
+    camera: &Camera,
+    level: u8,
+    id: u32,
+) {
+    let mut lines = edge_lines_px(corners, camera);
+    for (line, scale) in lines.iter_mut().zip(seam_scales) {
+        if *line != NO_EDGE_LINE {
+            *line = line.map(|v| (v as f64 * scale) as f32);
+        }
+    }
     let vertex = |p: DVec3| Vertex {
         position_mm: p.as_vec3().to_array(),
         edge_lines_px: lines,
