@@ -32,7 +32,8 @@ pub struct ViewArgs {
     /// Gaussian sensor noise, standard deviation in gray levels.
     #[arg(long, default_value_t = 0.0)]
     pub noise: f64,
-    /// Seed of the sensor noise.
+    /// Seed: of the sensor noise for `render`; of the whole dataset for `generate` (each
+    /// scene's own seed, noise included, derives from it).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
