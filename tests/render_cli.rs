@@ -179,7 +179,9 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let printed = String::from_utf8(o.stdout).unwrap();
     assert!(printed.contains("thesis_sample (5 blocks)"), "{printed}");
-    assert_eq!(file_names(&out).len(), 20);
+    assert!(printed.contains("settle: stable"), "{printed}");
+    // 20 render files plus the vision front end's vertices_<view>.json.
+    assert_eq!(file_names(&out).len(), 24);
     for view in ["ne", "se", "sw", "nw"] {
         let line = printed
             .lines()
@@ -187,6 +189,23 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
             .unwrap_or_else(|| panic!("no summary for {view}: {printed}"));
         assert!(line.contains("gray levels 5: 35 60 100 150 210"), "{line}");
         assert!(!line.contains(" 0 lines"), "{line}");
+        let vision = printed
+            .lines()
+            .find(|l| l.starts_with(&format!("vision {view}:")))
+            .unwrap_or_else(|| panic!("no vision line for {view}: {printed}"));
+        // Noise-free orthographic views: the issue #5 target is at least 0.98.
+        for field in ["precision", "recall", "six-bit code accuracy"] {
+            let value: f64 = vision
+                .split(&format!("{field} "))
+                .nth(1)
+                .and_then(|rest| rest.split([',', ' ']).next())
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("no {field} in {vision}"));
+            assert!(value >= 0.98, "{vision}");
+        }
+        let vertices = std::fs::read_to_string(out.join(format!("vertices_{view}.json"))).unwrap();
+        let drawing: blockworld::drawing::LineDrawing = serde_json::from_str(&vertices).unwrap();
+        assert!(!drawing.points.is_empty());
     }
 }
 
