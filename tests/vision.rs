@@ -334,7 +334,7 @@ fn crc32(bytes: &[u8]) -> u32 {
     !c
 }
 
-/// The fuzz target's entry point (fuzz/fuzz_targets/vision.rs) on a few hundred seeded random
+/// The fuzz target's entry point (tests/fuzz/fuzz_targets/vision.rs) on a few hundred seeded random
 /// small pictures and byte strings: no panic, and every point lies near the picture.
 #[test]
 fn random_small_pictures_never_panic() {
