@@ -56,11 +56,7 @@ impl ViewArgs {
 
     /// The backend asked for.
     pub fn backend(&self) -> anyhow::Result<Backend> {
-        match self.backend.to_ascii_lowercase().as_str() {
-            "vulkan" | "vk" => Ok(Backend::Vulkan),
-            "gl" | "gles" => Ok(Backend::Gl),
-            other => bail!("--backend: unknown backend {other:?}; use vulkan or gl"),
-        }
+        parse_backend(&self.backend)
     }
 
     /// Checked render options.
@@ -121,5 +117,14 @@ impl ViewArgs {
             noise_sigma: self.noise,
             seed: self.seed,
         })
+    }
+}
+
+/// Parses a `--backend` value: `vulkan` (or `vk`) and `gl` (or `gles`), any case.
+pub fn parse_backend(name: &str) -> anyhow::Result<Backend> {
+    match name.to_ascii_lowercase().as_str() {
+        "vulkan" | "vk" => Ok(Backend::Vulkan),
+        "gl" | "gles" => Ok(Backend::Gl),
+        other => bail!("--backend: unknown backend {other:?}; use vulkan or gl"),
     }
 }

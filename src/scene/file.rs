@@ -63,11 +63,14 @@ pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Scene, Scen
 
 /// Reads and parses a reconstruction file (see [`parse_reconstruction`]).
 pub fn read_reconstruction(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    parse_reconstruction(&read_text(path)?, &path.display().to_string())
+}
+
+fn read_text(path: &Path) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    parse_reconstruction(&text, &path.display().to_string())
+    })
 }
 
 fn parse_scene_unvalidated(text: &str, source_name: &str) -> Result<Scene, SceneError> {
@@ -166,11 +169,7 @@ pub fn scene_to_json(scene: &Scene) -> String {
 
 /// Reads, parses and validates a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_scene(&text, &path.display().to_string())
+    parse_scene(&read_text(path)?, &path.display().to_string())
 }
 
 /// Writes a scene file atomically (temporary name, then rename).

@@ -5,9 +5,9 @@
 //! six-bit codes; `vertices_<view>.json`) and compares it with the exact line drawing. Later
 //! issues extend it (recognize, score, export).
 
-use crate::output::write_rendered_views;
+use crate::cli::view_args::parse_backend;
 use crate::physics::{settle, SettleParams};
-use crate::render::{Backend, CornerView, RenderOptions, RenderedView, Renderer};
+use crate::render::{CornerView, RenderOptions, RenderedView, Renderer};
 use crate::scene::read_scene;
 use crate::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use anyhow::Context;
@@ -29,11 +29,7 @@ pub struct Args {
 
 /// Runs `blockworld demo`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let backend = match args.backend.to_ascii_lowercase().as_str() {
-        "vulkan" | "vk" => Backend::Vulkan,
-        "gl" | "gles" => Backend::Gl,
-        other => anyhow::bail!("--backend: unknown backend {other:?}; use vulkan or gl"),
-    };
+    let backend = parse_backend(&args.backend)?;
     let scene_path = demo_scene_path();
     let scene = read_scene(&scene_path)
         .with_context(|| format!("reading the demo scene {}", scene_path.display()))?;
@@ -71,17 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let views = renderer
         .render_views(&scene, &CornerView::ALL, &RenderOptions::default())
         .with_context(|| format!("rendering {}", scene_path.display()))?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating output directory {}", args.out.display()))?;
-    let written = write_rendered_views(&args.out, &views)
-        .with_context(|| format!("writing views into {}", args.out.display()))?;
-    for f in &written {
-        println!(
-            "wrote {}  sha256 {}",
-            args.out.join(&f.name).display(),
-            f.sha256
-        );
-    }
+    super::render::write_and_list(&args.out, &views)?;
     for v in &views {
         println!("{}", view_summary(v));
     }

@@ -106,17 +106,30 @@ fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
     Shard::new(index, n).map_err(anyhow::Error::msg)
 }
 
-/// The dataset options of a command line (also used by `bench generate`).
+/// The dataset options of a command line.
 pub fn dataset_options(args: &Args) -> anyhow::Result<DatasetOptions> {
+    let shard = resolve_shard(args)?;
+    checked_options(args.count, &args.families, &args.view, args.jobs, shard)
+}
+
+/// Dataset options from checked command-line values (shared with `bench generate`);
+/// `view.seed` is the dataset seed.
+pub fn checked_options(
+    count: u64,
+    families: &[String],
+    view: &ViewArgs,
+    jobs: usize,
+    shard: Shard,
+) -> anyhow::Result<DatasetOptions> {
     Ok(DatasetOptions {
-        count: args.count,
-        seed: args.view.seed,
-        families: parse_families(&args.families)?,
-        views: args.view.corner_views()?,
-        render: args.view.render_options()?,
+        count,
+        seed: view.seed,
+        families: parse_families(families)?,
+        views: view.corner_views()?,
+        render: view.render_options()?,
         settle: SettleParams::default(),
-        shard: resolve_shard(args)?,
-        jobs: args.jobs,
+        shard,
+        jobs,
     })
 }
 

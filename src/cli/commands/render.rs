@@ -3,10 +3,10 @@
 
 use crate::cli::view_args::ViewArgs;
 use crate::output::write_rendered_views;
-use crate::render::Renderer;
+use crate::render::{RenderedView, Renderer};
 use crate::scene::read_scene;
 use anyhow::Context;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Options of `blockworld render`.
 #[derive(Debug, clap::Args)]
@@ -31,16 +31,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let rendered = renderer
         .render_views(&scene, &views, &opts)
         .with_context(|| format!("rendering {}", args.scene.display()))?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating output directory {}", args.out.display()))?;
-    let written = write_rendered_views(&args.out, &rendered)
-        .with_context(|| format!("writing views into {}", args.out.display()))?;
+    write_and_list(&args.out, &rendered)?;
+    Ok(())
+}
+
+/// Creates `out`, writes every view's files into it and prints each file with its sha256
+/// (shared by `render` and `demo`).
+pub fn write_and_list(out: &Path, views: &[RenderedView]) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("creating output directory {}", out.display()))?;
+    let written = write_rendered_views(out, views)
+        .with_context(|| format!("writing views into {}", out.display()))?;
     for f in &written {
-        println!(
-            "wrote {}  sha256 {}",
-            args.out.join(&f.name).display(),
-            f.sha256
-        );
+        println!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256);
     }
     Ok(())
 }

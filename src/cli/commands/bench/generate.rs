@@ -2,10 +2,9 @@
 //! write) and the time split between the stages (issue #3 "Benchmark"; target >= 40 scenes/s
 //! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores).
 
-use crate::cli::commands::generate::{parse_families, renderer_for, with_progress};
+use crate::cli::commands::generate::{checked_options, renderer_for, with_progress};
 use crate::cli::view_args::ViewArgs;
-use crate::dataset::{generate_dataset, DatasetOptions, Shard};
-use crate::physics::SettleParams;
+use crate::dataset::{generate_dataset, Shard};
 use anyhow::Context;
 use std::time::Instant;
 
@@ -28,16 +27,13 @@ pub struct Args {
 
 /// Runs the benchmark into a temporary directory (removed afterwards) and prints a table.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let opts = DatasetOptions {
-        count: args.count,
-        seed: args.view.seed,
-        families: parse_families(&args.families)?,
-        views: args.view.corner_views()?,
-        render: args.view.render_options()?,
-        settle: SettleParams::default(),
-        shard: Shard::WHOLE,
-        jobs: args.jobs,
-    };
+    let opts = checked_options(
+        args.count,
+        &args.families,
+        &args.view,
+        args.jobs,
+        Shard::WHOLE,
+    )?;
     let renderer = renderer_for(&args.view)?;
     let dir = std::env::temp_dir().join(format!("blockworld-bench-{}", std::process::id()));
     let started = Instant::now();
