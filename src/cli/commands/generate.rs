@@ -152,7 +152,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let summary = with_progress(total, |progress| {
         generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
     })
-    .with_context(|| format!("generating {}", args.output.display()))?;
+    .with_context(|| {
+        format!(
+            "generating {} (fix the cause, e.g. free disk space, and re-run the same command: finished scenes are kept)",
+            args.output.display()
+        )
+    })?;
     report(&summary, &opts, started.elapsed().as_secs_f64());
     Ok(())
 }
