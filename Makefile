@@ -28,6 +28,11 @@ test: setup
 lint:
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
+	@# One glam, parry3d, rapier3d and wgpu each: scene types are physics types, no conversions.
+	@if $(CARGO) tree -d -e normal --depth 0 --prefix none | grep -E '^(glam|parry3d|rapier3d|wgpu) v'; then \
+		echo "a second version of the crate above is compiled: keep glam/parry3d/rapier3d in lockstep (README Dependencies)"; \
+		exit 1; \
+	fi
 
 ci: lint test
 
