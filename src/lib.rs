@@ -12,6 +12,7 @@
 pub mod cli;
 pub mod dataset;
 pub mod drawing;
+pub mod export;
 pub mod geom;
 pub mod io;
 pub mod output;

@@ -37,6 +37,8 @@ pub enum Command {
     Edges(commands::edges::Args),
     /// Lines, vertices and six-bit codes of a view (thesis Ch. IV, V).
     Vertices(commands::vertices::Args),
+    /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
+    Export(commands::export::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
 }
@@ -69,6 +71,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Score(a) => commands::score::run(a),
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),
+        Command::Export(a) => commands::export::run(a),
         Command::Bench(a) => commands::bench::run(a),
     }
 }

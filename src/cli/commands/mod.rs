@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod demo;
 pub mod edges;
+pub mod export;
 pub mod generate;
 pub mod merge;
 pub mod render;
