@@ -180,8 +180,9 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
     let printed = String::from_utf8(o.stdout).unwrap();
     assert!(printed.contains("thesis_sample (5 blocks)"), "{printed}");
     assert!(printed.contains("settle: stable"), "{printed}");
-    // 20 render files plus the vision front end's vertices_<view>.json.
-    assert_eq!(file_names(&out).len(), 24);
+    // 20 render files, the vision front end's vertices_<view>.json and the glTF export.
+    assert_eq!(file_names(&out).len(), 25);
+    assert!(out.join("thesis_sample.glb").exists(), "{printed}");
     for view in ["ne", "se", "sw", "nw"] {
         let line = printed
             .lines()

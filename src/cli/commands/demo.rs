@@ -2,8 +2,8 @@
 //! thesis's block sample (`scenes/thesis_sample.json`, Chapter VI / Appendix B): settles it with
 //! rapier3d, renders the four corner views with their ground truth into DIR (default
 //! `out/demo`), runs the vision front end on each view (Sobel, least-squares lines, vertices and
-//! six-bit codes; `vertices_<view>.json`) and compares it with the exact line drawing. Later
-//! issues extend it (recognize, score, export).
+//! six-bit codes; `vertices_<view>.json`) and compares it with the exact line drawing, and
+//! exports the sample as glTF (`<scene>.glb`). Later issues extend it (recognize, score).
 
 use crate::cli::view_args::parse_backend;
 use crate::physics::{settle, SettleParams};
@@ -74,6 +74,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for v in &views {
         println!("{}", vision_summary(v, &args.out)?);
     }
+    let glb_path = args.out.join(format!("{}.glb", scene.name));
+    let glb = crate::export::scene_to_glb(&scene)
+        .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
+    crate::io::write_atomic(&glb_path, &glb)
+        .with_context(|| format!("writing {}", glb_path.display()))?;
+    println!(
+        "export: {} blocks as glTF 2.0 -> {} ({} bytes)",
+        scene.blocks.len(),
+        glb_path.display(),
+        glb.len()
+    );
     Ok(())
 }
 
