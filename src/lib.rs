@@ -5,9 +5,12 @@
 //! flows one way, following the thesis's flow chart (Figure 5.3):
 //!
 //! `scene` → `physics` (rapier3d settling) → `render` (wgpu views + exact ground truth) →
-//! `vision` (Sobel, least-squares lines, six-bit codes) → `recognize` → `csg` → `score`
-//! (parry3d volume overlap). `dataset` produces synthetic datasets at scale; `cli` is the
-//! command line. Conventions (units, axes, picture coordinates) live in [`geom`].
+//! `vision` (Sobel, least-squares lines, six-bit codes) → (`recognize` → `csg`, the next wave)
+//! → `score` (parry3d volume overlap); `export` writes glTF. `dataset` produces synthetic
+//! datasets at scale; `cli` is the command line. Conventions (units, axes, picture coordinates)
+//! live in [`geom`]. Every public item is documented (`missing_docs` is a lint error in CI).
+
+#![warn(missing_docs)]
 
 pub mod cli;
 pub mod dataset;
