@@ -4,9 +4,12 @@
 
 use blockworld::drawing::LineDrawing;
 use blockworld::geom::DVec3;
-use blockworld::render::{CornerView, RenderOptions, Renderer};
+use blockworld::render::{CornerView, RenderOptions};
 use blockworld::scene::{read_scene, Block, Scene};
 use image::GrayImage;
+
+mod common;
+use common::renderer;
 
 /// Two neighbouring pixels whose gray levels differ by at least this are an intensity edge.
 const EDGE_STEP: i16 = 8;
@@ -15,17 +18,6 @@ const EDGE_STEP: i16 = 8;
 const ON_EDGE_PX: f64 = 1.5;
 /// An edge pixel is "explained" when a drawn line passes within this distance (px) of its centre.
 const EXPLAINED_PX: f64 = 2.0;
-
-fn renderer() -> Option<Renderer> {
-    match Renderer::new(Default::default()) {
-        Ok(r) => Some(r),
-        Err(e) if std::env::var_os("BLOCKWORLD_REQUIRE_GPU").is_none() => {
-            eprintln!("SKIPPED (no renderer: {e}); set BLOCKWORLD_REQUIRE_GPU=1 to fail instead");
-            None
-        }
-        Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but no renderer: {e}"),
-    }
-}
 
 fn edge_pixels(img: &GrayImage) -> Vec<(u32, u32)> {
     let (w, h) = img.dimensions();
@@ -162,22 +154,16 @@ fn scenes() -> Vec<Scene> {
             ],
         ),
     ];
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    out.push(read_scene(&root.join("scenes/thesis_sample.json")).unwrap());
+    out.push(read_scene(&common::root().join("scenes/thesis_sample.json")).unwrap());
     out
 }
 
 /// The accuracy suite's settled scenes (`scenes/bench/*.json`), sorted by name.
 fn suite_scenes() -> Vec<Scene> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bench");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    paths.sort();
-    paths.iter().map(|p| read_scene(p).unwrap()).collect()
+    common::json_files(&common::root().join("scenes/bench"))
+        .iter()
+        .map(|p| read_scene(p).unwrap())
+        .collect()
 }
 
 #[test]

@@ -16,6 +16,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
+mod common;
+
 /// An axis-aligned box, world mm.
 #[derive(Clone, Copy)]
 struct Aabb {
@@ -561,24 +563,12 @@ fn a_small_stack_gives_vertices_on_corners() {
 /// `BLOCKWORLD_REQUIRE_GPU` is set.
 #[test]
 fn real_renders_meet_the_accuracy_targets() {
-    use blockworld::render::{RenderOptions, Renderer};
-    let renderer = match Renderer::new(Default::default()) {
-        Ok(r) => r,
-        Err(e) if std::env::var_os("BLOCKWORLD_REQUIRE_GPU").is_none() => {
-            eprintln!("SKIPPED real_renders_meet_the_accuracy_targets (no renderer: {e}); set BLOCKWORLD_REQUIRE_GPU=1 to fail instead");
-            return;
-        }
-        Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but no renderer: {e}"),
+    use blockworld::render::RenderOptions;
+    let Some(renderer) = common::renderer() else {
+        return;
     };
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "no scenes in {}", dir.display());
+    let files = common::example_scene_paths();
+    assert!(!files.is_empty(), "no scenes in scenes/");
     for (noise, bar) in [(0.0, 0.98), (8.0, 0.95)] {
         let (mut found, mut truth, mut matched, mut codes) = (0, 0, 0, 0);
         for f in &files {

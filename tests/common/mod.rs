@@ -151,8 +151,13 @@ fn write_failure(
 
 /// Every `scenes/*.json`, sorted by file name.
 pub fn example_scene_paths() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
+    json_files(&root().join("scenes"))
+}
+
+/// Every `*.json` directly in `dir`, sorted by file name.
+pub fn json_files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .flatten()
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
