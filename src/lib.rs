@@ -12,6 +12,7 @@
 
 #![warn(missing_docs)]
 
+pub mod camera;
 pub mod cli;
 pub mod dataset;
 pub mod drawing;

@@ -7,10 +7,10 @@
 
 mod common;
 
+use blockworld::camera::{Camera, CornerView, Projection, DEPTH_UNITS_PER_MM};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::render::{
-    Backend, Camera, CornerView, Projection, RenderError, RenderOptions, RenderedView, Renderer,
-    BACKGROUND_LEVEL, DEPTH_UNITS_PER_MM, SEAM_LEVEL,
+    Backend, RenderError, RenderOptions, RenderedView, Renderer, BACKGROUND_LEVEL, SEAM_LEVEL,
 };
 use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, Tolerance};

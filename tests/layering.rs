@@ -10,25 +10,35 @@ use std::path::Path;
 const ALLOWED: &[(&str, &[&str])] = &[
     ("geom", &[]),
     ("io", &[]),
+    ("camera", &["geom"]),
     ("drawing", &["geom"]),
     ("scene", &["geom", "io"]),
     ("physics", &["scene", "geom"]),
-    ("render", &["scene", "drawing", "geom"]),
-    ("output", &["render", "drawing", "io", "geom"]),
-    ("vision", &["drawing", "render", "geom"]),
+    ("render", &["scene", "drawing", "camera", "geom"]),
+    ("output", &["render", "drawing", "camera", "io", "geom"]),
+    ("vision", &["drawing", "camera", "geom"]),
     ("score", &["scene", "drawing", "geom"]),
     (
         "dataset",
         &[
-            "scene", "physics", "render", "output", "drawing", "io", "geom",
+            "scene", "physics", "render", "output", "drawing", "camera", "io", "geom",
         ],
     ),
-    ("recognize", &["drawing", "render", "scene", "geom"]),
-    ("csg", &["recognize", "scene", "geom"]),
-    ("kanade", &["drawing", "geom"]),
-    ("view", &["scene", "geom"]),
+    (
+        "recognize",
+        &["drawing", "render", "scene", "camera", "geom"],
+    ),
+    ("csg", &["recognize", "scene", "camera", "geom"]),
+    ("kanade", &["drawing", "camera", "geom"]),
+    ("view", &["scene", "drawing", "camera", "geom"]),
     ("export", &["scene", "drawing", "geom", "io"]),
     ("cli", &["*"]),
+];
+
+/// Stages that must not depend on the renderer (README "Source layout"): what feeds it, and
+/// `vision`, which reads any picture with its camera, rendered or photographed.
+const BELOW_RENDER: &[&str] = &[
+    "geom", "io", "camera", "drawing", "scene", "physics", "vision",
 ];
 
 /// External crate -> the only stages (path prefixes under src/) that may name it.
@@ -129,6 +139,18 @@ fn stages_import_only_upstream() {
         "layering violations:\n{}",
         violations.join("\n")
     );
+}
+
+#[test]
+fn no_stage_below_render_imports_render() {
+    for (stage, allowed) in ALLOWED {
+        if BELOW_RENDER.contains(stage) {
+            assert!(
+                !allowed.contains(&"render") && !allowed.contains(&"*"),
+                "{stage} comes before render in the flow but may import it"
+            );
+        }
+    }
 }
 
 #[test]

@@ -3,10 +3,10 @@
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
 
+use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::{Junction, LineDrawing, LineKind};
 use blockworld::geom::{DQuat, DVec2, DVec3};
 use blockworld::render::truth::visible_line_drawing;
-use blockworld::render::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::scene::{Block, BlockType, Orientation, Scene, CATALOG};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -4,9 +4,9 @@
 //! darkened (the renderer's ~1 px seams). The true vertices are the projected box corners, known
 //! exactly. These tests need no GPU; `blockworld bench vision` measures on real renders.
 
+use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
-use blockworld::render::{Camera, CameraOptions, CornerView};
 use blockworld::vision::{
     decode_gray, detect_line_drawing, detect_with_directions, match_vertices, picture_directions,
     EdgeDirection, VisionError, VisionOptions,

@@ -1,8 +1,9 @@
 //! Render options shared by every command that renders (`render`, `demo`, `generate`,
 //! `bench ...`), flattened into their clap `Args`.
 
+use crate::camera::{CameraOptions, CornerView, Projection};
 use crate::geom::ISOMETRIC_ELEVATION_DEG;
-use crate::render::{Backend, CameraOptions, CornerView, Projection, RenderOptions};
+use crate::render::{Backend, RenderOptions};
 use anyhow::{bail, Context};
 
 /// How views are rendered (issue #2 "Renderer").

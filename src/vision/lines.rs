@@ -21,8 +21,8 @@
 //! Lines in other directions (a block turned about the vertical, a wedge's slope) are not
 //! found: the thesis's method assumes blocks aligned with the views (Ch. VII).
 
+use crate::camera::Camera;
 use crate::geom::{DVec2, DVec3};
-use crate::render::Camera;
 use image::GrayImage;
 
 /// Options of the line finder; every length is in picture pixels.
@@ -671,7 +671,7 @@ mod tests {
 
     #[test]
     fn isometric_views_have_vertical_and_thirty_degree_directions() {
-        use crate::render::{CameraOptions, CornerView};
+        use crate::camera::{CameraOptions, CornerView};
         let pts = [DVec3::new(-7.5, 0.0, -7.5), DVec3::new(7.5, 15.0, 7.5)];
         for view in CornerView::ALL {
             let cam = Camera::frame(&pts, view, &CameraOptions::default());

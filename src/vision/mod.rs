@@ -36,8 +36,8 @@ pub use lines::{
 };
 pub use vertices::{find_vertices, VertexOptions};
 
+use crate::camera::Camera;
 use crate::drawing::LineDrawing;
-use crate::render::Camera;
 use image::GrayImage;
 
 /// Largest picture side accepted, px (the renderer's `--size` limit). Larger pictures get

@@ -5,9 +5,10 @@
 //! six-bit codes; `vertices_<view>.json`) and compares it with the exact line drawing, and
 //! exports the sample as glTF (`<scene>.glb`). Later issues extend it (recognize, score).
 
+use crate::camera::CornerView;
 use crate::cli::view_args::parse_backend;
 use crate::physics::{settle, SettleParams};
-use crate::render::{CornerView, RenderOptions, RenderedView, Renderer};
+use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::read_scene;
 use crate::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use anyhow::Context;

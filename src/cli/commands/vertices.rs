@@ -2,7 +2,7 @@
 //! codes and junction classes of a view (thesis Ch. IV-VI), as JSON in the picture coordinates
 //! of `lines_<view>.json` (px, x right, y up, origin at the bottom-left corner).
 
-use crate::render::Camera;
+use crate::camera::Camera;
 use crate::vision::{decode_gray, detect_line_drawing, Detection, EdgeOptions, VisionOptions};
 use anyhow::Context;
 use image::GrayImage;

@@ -3,9 +3,10 @@
 //! Columns: render + readback (pixels only), the same plus the exact line drawing
 //! (`Renderer::render`), and render + readback + PNG encoding of the three images.
 
+use crate::camera::CornerView;
 use crate::geom::DVec3;
 use crate::output::{encode_png_gray16, encode_png_gray8};
-use crate::render::{Backend, CornerView, RenderOptions, Renderer};
+use crate::render::{Backend, RenderOptions, Renderer};
 use crate::scene::{Block, Scene};
 use anyhow::Context;
 use std::time::{Duration, Instant};

@@ -5,9 +5,10 @@
 //! the `lines` points within 2 px, and prints per family and overall: vertex precision and
 //! recall, six-bit code accuracy of matched vertices, line angle error, and ms per view per step.
 
+use crate::camera::{Camera, CornerView};
 use crate::cli::commands::vertices::{read_camera, read_picture};
 use crate::drawing::LineDrawing;
-use crate::render::{Backend, Camera, CornerView, RenderOptions, Renderer};
+use crate::render::{Backend, RenderOptions, Renderer};
 use crate::vision::{
     edge_directions, find_vertices, fit_lines, line_angle_errors_deg,
     match_vertices_with_tolerances, refine_lines_on_seams, smooth_3x3, sobel_magnitude, threshold,
@@ -228,7 +229,7 @@ fn render_suite(args: &Args) -> anyhow::Result<Vec<Sample>> {
         if !(1.0..=170.0).contains(&fov_y_deg) {
             bail!("--perspective: {fov_y_deg} is out of range; use 1..=170 degrees");
         }
-        opts.camera.projection = crate::render::Projection::Perspective { fov_y_deg };
+        opts.camera.projection = crate::camera::Projection::Perspective { fov_y_deg };
     }
     let mut out = Vec::new();
     for f in files {
