@@ -3,7 +3,7 @@
 //! passing is itself a failure until someone changes its mark on purpose).
 
 use super::verdict::{score_reconstruction_with_options, ScoreOptions, Verdict};
-use crate::scene::Scene;
+use crate::scene::{Reconstruction, Scene};
 use serde::{Deserialize, Serialize};
 
 /// One suite scene's result.
@@ -63,7 +63,7 @@ pub fn scene_family(scene: &Scene) -> String {
 pub fn score_suite_scene(
     id: &str,
     truth: &Scene,
-    recon: Result<&Scene, String>,
+    recon: Result<&Reconstruction, String>,
     opts: &ScoreOptions,
 ) -> SceneResult {
     let supported = truth.is_supported();

@@ -5,7 +5,7 @@
 //! (`score::make_reference_reconstructions`) that `tests/accuracy_gate.rs` scores.
 
 use crate::cli::view_args::ViewArgs;
-use crate::scene::{read_reconstruction, read_scene, scene_to_json, Scene};
+use crate::scene::{read_reconstruction, read_scene, reconstruction_to_json, Scene};
 use crate::score::{
     check_gate, make_reference_reconstructions, score_suite_scene, summarize_by_family,
     FamilySummary, Golden, SceneResult, ScoreOptions, BLESS_COMMAND,
@@ -142,7 +142,7 @@ fn write_reference(dir: &Path, suite: &[(String, Scene)]) -> anyhow::Result<()> 
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     for (id, recon) in make_reference_reconstructions(suite) {
         let path = dir.join(format!("{id}.json"));
-        crate::io::write_atomic(&path, scene_to_json(&recon).as_bytes())
+        crate::io::write_atomic(&path, reconstruction_to_json(&recon).as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
     println!(
