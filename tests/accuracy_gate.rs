@@ -13,7 +13,7 @@ use blockworld::scene::{
 };
 use blockworld::score::{
     check_gate, make_reference_reconstructions, score_suite_scene, GateFailure, Golden,
-    SceneResult, ScoreOptions, Verdict, BLESS_COMMAND,
+    NoReconstruction, SceneResult, ScoreOptions, Verdict, BLESS_COMMAND,
 };
 use std::path::{Path, PathBuf};
 
@@ -66,7 +66,7 @@ fn score_all(suite: &[(String, Scene)], recons: &[(String, Reconstruction)]) -> 
                 .iter()
                 .find(|(rid, _)| rid == id)
                 .map(|(_, s)| s)
-                .ok_or_else(|| format!("no reconstruction for {id}"));
+                .ok_or_else(|| NoReconstruction(format!("no reconstruction for {id}")));
             score_suite_scene(id, truth, recon, &ScoreOptions::default())
         })
         .collect()

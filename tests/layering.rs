@@ -47,8 +47,9 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ("rapier3d", &["physics"]),
     ("parry3d", &["score"]),
     ("clap", &["cli"]),
+    ("anyhow", &["cli"]),
     ("gltf", &["export"]),
-    ("indicatif", &["cli", "dataset"]),
+    ("indicatif", &["cli"]),
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
@@ -171,6 +172,21 @@ fn external_crates_live_in_one_stage() {
         }
     }
     assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
+
+#[test]
+fn the_command_line_belongs_to_the_binary() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let lib = std::fs::read_to_string(root.join("lib.rs")).unwrap();
+    assert!(
+        !lib.contains("mod cli"),
+        "src/lib.rs declares the cli: the library must not carry clap, anyhow or indicatif"
+    );
+    let main = std::fs::read_to_string(root.join("main.rs")).unwrap();
+    assert!(
+        main.contains("mod cli;"),
+        "src/main.rs must declare the cli"
+    );
 }
 
 #[test]

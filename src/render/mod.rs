@@ -84,9 +84,6 @@ pub enum RenderError {
     /// Options that cannot be rendered (size, MSAA count).
     #[error("invalid render options: {0}")]
     Options(String),
-    /// Kept from the pinned API for callers that match on it; the renderer no longer returns it.
-    #[error("the renderer is not implemented yet")]
-    Unimplemented,
 }
 
 /// Gray level of the background (where neither the floor nor a block is seen).

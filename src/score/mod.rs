@@ -34,7 +34,7 @@ pub use reference::{
 };
 pub use suite::{
     check_gate, scene_family, score_suite_scene, summarize_by_family, FamilySummary, GateFailure,
-    Golden, GoldenScene, SceneResult, BLESS_COMMAND,
+    Golden, GoldenScene, NoReconstruction, SceneResult, BLESS_COMMAND,
 };
 pub use verdict::{
     score_reconstruction, score_reconstruction_with_options, Score, ScoreOptions, Verdict,
