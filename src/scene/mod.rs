@@ -11,7 +11,7 @@ mod file;
 mod reconstruction;
 mod sat;
 
-pub use catalog::{block_type, BlockType, CATALOG};
+pub use catalog::{block_type, BlockType, ConvexPolyhedron, Shape, CATALOG};
 pub use error::SceneError;
 pub use file::{
     parse_reconstruction, parse_scene, read_reconstruction, read_scene, reconstruction_to_json,

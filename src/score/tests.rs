@@ -14,7 +14,7 @@ type Faces = Vec<Vec<DVec3>>;
 fn faces_of(b: &Block) -> Faces {
     let v = b.world_vertices();
     b.block_type
-        .faces
+        .faces()
         .iter()
         .map(|f| f.iter().map(|&i| v[i as usize]).collect())
         .collect()
@@ -94,9 +94,9 @@ fn faces_volume(faces: &Faces) -> f64 {
 fn clipper_intersection_mm3(a: &Block, b: &Block) -> f64 {
     let v = b.world_vertices();
     let mut faces = faces_of(a);
-    for f in 0..b.block_type.faces.len() {
+    for f in 0..b.block_type.faces().len() {
         let n = b.world_face_normal(f);
-        faces = clip_by_plane(&faces, n, n.dot(v[b.block_type.faces[f][0] as usize]));
+        faces = clip_by_plane(&faces, n, n.dot(v[b.block_type.faces()[f][0] as usize]));
     }
     faces_volume(&faces).max(0.0)
 }

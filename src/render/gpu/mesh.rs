@@ -90,7 +90,7 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 36);
     for (index, block) in scene.blocks.iter().enumerate() {
         let world = block.world_vertices();
-        for (f, face) in block.block_type.faces.iter().enumerate() {
+        for (f, face) in block.block_type.faces().iter().enumerate() {
             if face.len() > MAX_FACE_EDGES {
                 return Err(TooManyEdges {
                     block: index,
@@ -146,7 +146,7 @@ fn seam_scales(
     world: &[DVec3],
     camera: &Camera,
 ) -> [f64; MAX_FACE_EDGES] {
-    let faces = block.block_type.faces;
+    let faces = block.block_type.faces();
     let face = faces[f];
     let mut scales = [1.0; MAX_FACE_EDGES];
     for k in 0..face.len().min(MAX_FACE_EDGES) {

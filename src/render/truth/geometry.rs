@@ -123,7 +123,7 @@ impl SceneGeometry {
             let bt = block.block_type;
             let verts = block.world_vertices();
             let first_face = faces.len();
-            for (fi, face) in bt.faces.iter().enumerate() {
+            for (fi, face) in bt.faces().iter().enumerate() {
                 let normal = block.world_face_normal(fi);
                 let p0 = verts[face[0] as usize];
                 let front = camera.faces_eye(normal, p0);
