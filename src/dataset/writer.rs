@@ -107,9 +107,11 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
 }
 
 /// The `dataset.json` content: everything that decides the files, nothing about jobs or shards.
+/// The render and settle parameters are their structs serialized whole, so a new field can
+/// never go unrecorded and let a resume mix two datasets.
 fn dataset_json(opts: &DatasetOptions) -> Value {
-    let c = &opts.render.camera;
-    let s = &opts.settle;
+    let mut render = serde_json::to_value(opts.render).expect("render options serialize");
+    render["noise_seed"] = json!("the scene's seed");
     json!({
         "version": LAYOUT_VERSION,
         "generator": format!("blockworld {}", env!("CARGO_PKG_VERSION")),
@@ -119,28 +121,15 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
         "families": opts.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
         "family_of_scene": "families[index % len(families)]",
         "views": opts.views.iter().map(|v| v.name()).collect::<Vec<_>>(),
-        "render": {
-            "size_px": c.size_px,
-            "elevation_deg": c.elevation_deg,
-            "projection": c.projection,
-            "pixel_aspect": c.pixel_aspect,
-            "margin": c.margin,
-            "msaa": opts.render.msaa,
-            "noise_sigma": opts.render.noise_sigma,
-            "noise_seed": "the scene's seed",
-        },
-        "settle": {
-            "dt_s": s.dt_s, "max_time_s": s.max_time_s, "drift_tol_mm": s.drift_tol_mm,
-            "turn_tol_deg": s.turn_tol_deg, "drop_gap_mm": s.drop_gap_mm,
-            "floor_contact_mm": s.floor_contact_mm, "density_kg_m3": s.density_kg_m3,
-            "friction": s.friction, "length_unit_m": s.length_unit_m,
-            "contact_hz": s.contact_hz, "static_contact_hz": s.static_contact_hz,
-            "solver_iterations": s.solver_iterations,
-        },
+        "render": render,
+        "settle": serde_json::to_value(opts.settle).expect("settle parameters serialize"),
     })
 }
 
 fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
+    opts.render
+        .validate()
+        .map_err(|e| DatasetError::Options(e.to_string()))?;
     if opts.count == 0 {
         return Err(DatasetError::Options("--count must be at least 1".into()));
     }

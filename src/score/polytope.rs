@@ -11,7 +11,7 @@
 //! is again a [`ConvexPolytope`] (triangles as faces), so k-fold intersections chain.
 
 use super::{ScoreError, VolumeTolerances};
-use crate::geom::DVec3;
+use crate::geom::{bounds3, DVec3};
 use crate::scene::Block;
 use parry3d::math::Vector as PVec;
 
@@ -47,10 +47,8 @@ impl ConvexPolytope {
     }
 
     fn new(vertices: Vec<DVec3>, edges: Vec<[usize; 2]>, planes: Vec<(DVec3, f64)>) -> Self {
-        let (lo, hi) = vertices.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-        );
+        let (lo, hi) = bounds3(vertices.iter().copied())
+            .unwrap_or((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)));
         ConvexPolytope {
             vertices,
             edges,
