@@ -1,4 +1,4 @@
-//! `blockworld generate` and `blockworld merge` end to end (issue #3 "Done when"): every family
+//! `blockworld generate` and `blockworld merge` end to end (README "Settling and datasets"): every family
 //! yields scenes; the same seed gives the same bytes whatever `--jobs`; shards merge into the
 //! unsharded dataset; a run killed midway resumes to a byte-identical dataset.
 //!
@@ -320,7 +320,7 @@ impl Drop for TinyDisk {
     }
 }
 
-/// Issue #3 "Nothing lost": a full disk stops the run with an error that names the file, leaves
+/// Nothing lost: a full disk stops the run with an error that names the file, leaves
 /// no half-written file under a final name and no temporary file, and the same command, re-run
 /// once there is space, resumes to the bytes of an uninterrupted run.
 #[test]
@@ -460,7 +460,7 @@ fn rendered_shards_merge_and_resume() {
 
 /// Runs `scripts/slurm_generate.sh` as a real Slurm array job (3 tasks), merges the shards and
 /// compares with an unsharded run. Skipped (loudly) unless a Slurm cluster answers `sinfo`;
-/// `shared/notes/slurm.md` sets one up on a single machine.
+/// README "Settling and datasets" sets one up on a single machine.
 #[test]
 fn a_slurm_array_job_writes_shards_that_merge() {
     let up = Command::new("sinfo")
@@ -468,7 +468,7 @@ fn a_slurm_array_job_writes_shards_that_merge() {
         .output()
         .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
     if !up {
-        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see shared/notes/slurm.md");
+        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see README \"Settling and datasets\"");
         return;
     }
     let tmp = tempfile::tempdir().unwrap();

@@ -6,7 +6,7 @@ use blockworld::camera::{CameraOptions, CornerView, Projection};
 use blockworld::geom::ISOMETRIC_ELEVATION_DEG;
 use blockworld::render::{Backend, RenderOptions};
 
-/// How views are rendered (issue #2 "Renderer").
+/// How views are rendered (README "Rendering").
 #[derive(Debug, Clone, clap::Args)]
 pub struct ViewArgs {
     /// Views to render, comma separated (ne, se, sw, nw).

@@ -1,4 +1,4 @@
-//! Settling scenes with rapier3d (issue #3): the only home of rapier3d.
+//! Settling scenes with rapier3d (README "Settling and datasets"): the only home of rapier3d.
 //!
 //! A scene's blocks are dropped from a small gap above their intended poses onto a fixed floor
 //! and simulated until every body sleeps or a time limit passes. The scene is **stable** when no
@@ -7,13 +7,13 @@
 //! not meant to (the thesis's Chapter VII constraint: every block rests on the floor or on other
 //! blocks, "contacted at least by one surface").
 //!
-//! Units (see `shared/notes/dependencies.md`): rapier runs in **metres** with
+//! Units (see README "Dependencies"): rapier runs in **metres** with
 //! `length_unit` = 0.01 (block-sized slop, prediction distance and sleep thresholds), gravity
 //! -9.81 m/s², a 1/240 s step and stiff contacts (240 Hz between bodies, 480 Hz against the
 //! floor), so resting blocks sink only about 0.03 mm into their supports instead of 0.4 mm and
 //! tall towers stay up (see [`SettleParams::dt_s`]).
 //!
-//! Policy for the settled scene (`shared/notes/ground-truth.md`, "settled poses are not flush"):
+//! Policy for the settled scene (README "The exact line drawing"):
 //! a **stable** scene is written back at its *intended* poses, as `rotation` quaternions, and
 //! the measured drift goes into `meta.settle`; the exact line drawing keeps every seam and
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
@@ -44,9 +44,9 @@ pub struct SettleParams {
     /// Simulated time limit in seconds; default 4 s. A scene whose bodies are not all asleep by
     /// then is unstable.
     pub max_time_s: f64,
-    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (issue #3).
+    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (README "Settling and datasets").
     pub drift_tol_mm: f64,
-    /// Largest allowed turn from the intended orientation, degrees; default 1 (issue #3).
+    /// Largest allowed turn from the intended orientation, degrees; default 1 (README "Settling and datasets").
     pub turn_tol_deg: f64,
     /// Gap per layer the blocks are lifted by before the drop, mm; default 0.05. A block whose
     /// bottom is at layer `k` (counting distinct bottom heights from the floor, `k` = 0 on the
@@ -121,7 +121,7 @@ pub enum PhysicsError {
     Params(String),
 }
 
-/// Settles `scene` with rapier3d and judges its stability (issue #3 "Settling").
+/// Settles `scene` with rapier3d and judges its stability (README "Settling and datasets").
 ///
 /// Deterministic: the same scene and parameters give bit-identical results (rapier's
 /// `enhanced-determinism`; one thread per scene).

@@ -1,4 +1,4 @@
-//! The off-screen renderer (issue #2): grayscale 45-degree corner views of a scene, rendered with
+//! The off-screen renderer (README "Rendering"): grayscale 45-degree corner views of a scene, rendered with
 //! wgpu (Vulkan on lavapipe by default), plus their ground truth: depth, block ids and the exact
 //! visible line drawing computed from geometry.
 //!
@@ -146,7 +146,7 @@ pub enum RenderError {
 pub const BACKGROUND_LEVEL: u8 = 20;
 
 /// Gray level of the seam drawn along every block face edge, so that touching blocks stay
-/// distinguishable (issue #2; real Fischer-Technik blocks show a dark gap there).
+/// distinguishable (README "Rendering"; real Fischer-Technik blocks show a dark gap there).
 pub const SEAM_LEVEL: u8 = 35;
 
 /// Half width of the seam in px: a fragment whose pixel centre lies closer than this to the

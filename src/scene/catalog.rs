@@ -67,7 +67,7 @@ pub struct BlockType {
     pub shape: Shape,
 }
 
-/// The catalog (issue #2): ids and sizes as x length, y height, z width in mm.
+/// The catalog (README "Rendering"): ids and sizes as x length, y height, z width in mm.
 ///
 /// | id | name | x | y | z |
 /// |---|---|---|---|---|

@@ -2,7 +2,7 @@
 //! scene-file format that every later stage reads, and its validation.
 //!
 //! A [`Scene`] is plain data. `scene::file` reads and writes it as JSON (the contract of
-//! issue #2, documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
+//! README "Rendering", documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
 //! blocks that overlap or sink below the floor, NaN poses.
 
 mod catalog;
