@@ -219,6 +219,50 @@ fn shards_from_the_array_job_environment() {
     assert_eq!(manifest(&ds).len(), 5);
 }
 
+/// Regression: `merge` panicked (remainder by zero) on a stray `manifest.shard-0-of-0.jsonl`,
+/// and allocated per scene the count that `dataset.json` claims (10^12 aborted, 2^64-1
+/// overflowed) before checking anything. Both now end in an error that names the file.
+#[test]
+fn merge_names_stray_shards_and_distrusts_a_huge_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    generate(&ds, 3, &["--views", "", "--shard", "0/2"]);
+    generate(&ds, 3, &["--views", "", "--shard", "1/2"]);
+    let stray = ds.join("manifest.shard-0-of-0.jsonl");
+    std::fs::write(&stray, "{}\n").unwrap();
+    let out = blockworld(&["merge", ds.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("manifest.shard-0-of-0.jsonl") && !err.contains("panicked"),
+        "{err}"
+    );
+    std::fs::remove_file(&stray).unwrap();
+    let path = ds.join("dataset.json");
+    let original = std::fs::read_to_string(&path).unwrap();
+    for claim in ["1000000000000", "18446744073709551615", "-1"] {
+        let mut v: serde_json::Value = serde_json::from_str(&original).unwrap();
+        v["count"] = serde_json::from_str(claim).unwrap();
+        std::fs::write(&path, v.to_string()).unwrap();
+        let started = std::time::Instant::now();
+        let out = blockworld(&["merge", ds.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "count {claim}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("dataset.json") || err.contains("missing"),
+            "{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        // Not a timing target: a guard that the merge did not walk 10^12 slots.
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "count {claim} took too long"
+        );
+    }
+    std::fs::write(&path, original).unwrap();
+    ok(blockworld(&["merge", ds.to_str().unwrap()]));
+}
+
 #[test]
 fn a_run_killed_midway_resumes_to_the_same_bytes() {
     let tmp = tempfile::tempdir().unwrap();
