@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod csg;
 pub mod dataset;
 pub mod drawing;
 pub mod export;
@@ -20,6 +21,7 @@ pub mod geom;
 pub mod io;
 pub mod output;
 pub mod physics;
+pub mod recognize;
 pub mod render;
 pub mod scene;
 pub mod score;

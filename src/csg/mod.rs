@@ -1,0 +1,125 @@
+//! Constructive solid geometry of a recognized sample (thesis Chapter IV, Figure 4.6; step 5 of
+//! Chapter V): the final object as the union of positioned primitive blocks, "starting from the
+//! lowest level to the upper levels".
+//!
+//! ## Frame
+//! Positions are world millimetres as the cameras define them (README "Conventions": +y up,
+//! the floor at y = 0, +x east, -z north), so a reconstruction scores directly against its
+//! truth scene. The thesis instead places its sample relative to a **reference vertex**
+//! (Chapter VI, "Display the Final Sample"): the vertex with the least picture x, where x = 0,
+//! with y taken from its layer (bottom layer at y = 0). The two frames share the y axis and the
+//! floor; they differ by a horizontal translation only, which [`reference_vertex_mm`] gives:
+//! thesis coordinates = world − (ref.x, 0, ref.z).
+
+use crate::geom::DVec3;
+use crate::recognize::{classify_layers, yaw_deg, Camera};
+use crate::scene::Block;
+
+/// A CSG tree of catalog primitives (Figure 4.6): a union of children, or one placed block.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CsgNode {
+    /// The union of the children, in order.
+    Union(Vec<CsgNode>),
+    /// One catalog block at its world pose.
+    Primitive {
+        /// The placed block.
+        block: Block,
+    },
+}
+
+impl CsgNode {
+    /// The primitives in tree order (depth first).
+    pub fn primitives(&self) -> Vec<Block> {
+        match self {
+            CsgNode::Primitive { block } => vec![*block],
+            CsgNode::Union(children) => children.iter().flat_map(CsgNode::primitives).collect(),
+        }
+    }
+
+    /// The tree as JSON for a reconstruction file's `csg` field:
+    /// `{"union": [..]}` and `{"primitive": {"type", "center", "yaw_deg"}}`.
+    pub fn to_json(&self) -> serde_json::Value {
+        match self {
+            CsgNode::Union(children) => {
+                serde_json::json!({ "union": children.iter().map(CsgNode::to_json).collect::<Vec<_>>() })
+            }
+            CsgNode::Primitive { block } => serde_json::json!({ "primitive": {
+                "type": block.block_type.id,
+                "center": block.center_mm.to_array(),
+                "yaw_deg": yaw_deg(block),
+            }}),
+        }
+    }
+}
+
+/// The CSG union of `blocks`, one union per layer, lowest layer first (Figure 4.6; Chapter V:
+/// "adds the data together ... starting from the lowest level to the upper levels"). Blocks
+/// within a layer keep their order. Layers are bottoms within `layer_tol_mm`.
+pub fn build_csg(blocks: &[Block], layer_tol_mm: f64) -> CsgNode {
+    CsgNode::Union(
+        classify_layers(blocks, layer_tol_mm)
+            .into_iter()
+            .map(|layer| {
+                CsgNode::Union(
+                    layer
+                        .blocks
+                        .iter()
+                        .map(|&i| CsgNode::Primitive { block: blocks[i] })
+                        .collect(),
+                )
+            })
+            .collect(),
+    )
+}
+
+/// The thesis's reference vertex (Chapter VI): of all block vertices, the one with the least
+/// picture x in `camera` (ties: lowest y). `None` for no blocks.
+pub fn reference_vertex_mm(blocks: &[Block], camera: &Camera) -> Option<DVec3> {
+    blocks
+        .iter()
+        .flat_map(Block::world_vertices)
+        .map(|v| (camera.picture_from_world(v), v))
+        .min_by(|a, b| a.0.x.total_cmp(&b.0.x).then(a.1.y.total_cmp(&b.1.y)))
+        .map(|(_, v)| v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{CameraOptions, CornerView};
+
+    fn stack() -> Vec<Block> {
+        vec![
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+            Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 90.0),
+            Block::new("b15", DVec3::new(45.0, 7.5, 7.5), 0.0),
+        ]
+    }
+
+    #[test]
+    fn the_union_puts_the_lowest_layer_first() {
+        let tree = build_csg(&stack(), 0.5);
+        let CsgNode::Union(layers) = &tree else {
+            panic!("root is a union")
+        };
+        assert_eq!(layers.len(), 2);
+        assert_eq!(layers[0].primitives().len(), 2);
+        let ids: Vec<&str> = tree.primitives().iter().map(|b| b.block_type.id).collect();
+        assert_eq!(ids, vec!["b30", "b15", "b15"]);
+        let j = tree.to_json();
+        assert_eq!(j["union"][0]["union"][0]["primitive"]["yaw_deg"], 90.0);
+        assert_eq!(j["union"][1]["union"][0]["primitive"]["center"][1], 22.5);
+    }
+
+    #[test]
+    fn the_reference_vertex_is_the_leftmost_in_the_picture() {
+        let blocks = stack();
+        let v: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        let cam = Camera::frame(&v, CornerView::Ne, &CameraOptions::default());
+        let r = reference_vertex_mm(&blocks, &cam).unwrap();
+        let rx = cam.picture_from_world(r).x;
+        assert!(v.iter().all(|p| cam.picture_from_world(*p).x >= rx - 1e-9));
+        assert_eq!(r.y, 0.0, "the lowest of the leftmost vertical edge");
+        assert!(reference_vertex_mm(&[], &cam).is_none());
+    }
+}
