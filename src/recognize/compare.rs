@@ -13,12 +13,12 @@
 //! one at a time, each time the candidate whose redrawn views (step 6, [`super::verify`])
 //! explain the most of the observed drawings, until nothing improves.
 
-use super::catalog_match::blocks_overlap;
+use super::catalog_match::{blocks_overlap, distinct_yaws_deg};
 use super::verify::{compare_drawings, draw_hypothesis, ViewCheck};
 use super::ObservedView;
 use crate::drawing::LineDrawing;
-use crate::geom::DVec2;
-use crate::scene::{Block, Orientation};
+use crate::geom::{DVec2, DVec3};
+use crate::scene::{Block, Orientation, CATALOG};
 
 /// A block proposed by one or more views.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,7 +134,7 @@ pub struct SearchLimits {
     pub repair_rounds: usize,
 }
 
-/// One greedy pass: adds, one at a time, the shortlisted candidate whose redrawn views
+/// One greedy pass from `start`: adds, one at a time, the shortlisted candidate whose redrawn views
 /// disagree least with the observed ones, skipping `banned` pool indices; returns the chosen
 /// pool indices and the final hypothesis.
 fn greedy(
@@ -142,8 +142,9 @@ fn greedy(
     views: &[ObservedView],
     limits: &SearchLimits,
     banned: &[usize],
+    start: Hypothesis,
 ) -> (Vec<usize>, Hypothesis) {
-    let mut h = Hypothesis::new(Vec::new(), views, limits.tol_px);
+    let mut h = start;
     let mut chosen = Vec::new();
     while h.mismatch() > 0 && h.blocks.len() < limits.max_blocks {
         let mut ranked: Vec<(usize, (usize, usize))> = pool
@@ -177,17 +178,46 @@ fn greedy(
     (chosen, h)
 }
 
-/// Chooses blocks from `pool` by hypothesize-and-test: a greedy pass, then, while views stay
-/// unexplained, greedy passes that each forbid one more chosen block (a block that explains
-/// much at once, like one b30 where two b15 lie flush, is then replaced by what explains all);
-/// at most `limits.repair_rounds` rounds. Returns the chosen blocks and the per-view checks.
+/// Greedy passes from nothing, each followed by splitting chosen blocks where the halves
+/// explain more (one b30 where two b15 lie flush with a visible crack) and more greedy passes.
+fn greedy_and_split(
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    limits: &SearchLimits,
+    banned: &[usize],
+) -> (Vec<usize>, Hypothesis) {
+    let empty = Hypothesis::new(Vec::new(), views, limits.tol_px);
+    let (mut chosen, mut h) = greedy(pool, views, limits, banned, empty);
+    while h.mismatch() > 0 {
+        let split = (0..h.blocks.len()).find_map(|i| {
+            catalog_splits(&h.blocks[i]).into_iter().find_map(|halves| {
+                let mut blocks = h.blocks.clone();
+                blocks.splice(i..=i, halves);
+                let next = Hypothesis::new(blocks, views, limits.tol_px);
+                (next.mismatch() < h.mismatch()).then_some(next)
+            })
+        });
+        let Some(next) = split else {
+            break;
+        };
+        let (more, after) = greedy(pool, views, limits, banned, next);
+        chosen.extend(more);
+        h = after;
+    }
+    (chosen, h)
+}
+
+/// Chooses blocks from `pool` by hypothesize-and-test: greedy passes with splits, then, while
+/// views stay unexplained, passes that each forbid one more chosen block (a block explaining
+/// much at once is then replaced by what explains all); at most `limits.repair_rounds` rounds.
+/// Returns the chosen blocks and the per-view checks.
 pub fn choose_blocks(
     pool: &[PooledCandidate],
     views: &[ObservedView],
     limits: &SearchLimits,
 ) -> (Vec<Block>, Vec<ViewCheck>) {
     let mut banned: Vec<usize> = Vec::new();
-    let (mut chosen, mut best) = greedy(pool, views, limits, &banned);
+    let (mut chosen, mut best) = greedy_and_split(pool, views, limits, &banned);
     for _ in 0..limits.repair_rounds {
         if best.mismatch() == 0 {
             break;
@@ -196,7 +226,7 @@ pub fn choose_blocks(
         for &i in &chosen {
             let mut ban = banned.clone();
             ban.push(i);
-            let (c, h) = greedy(pool, views, limits, &ban);
+            let (c, h) = greedy_and_split(pool, views, limits, &ban);
             let bar = round.as_ref().map_or(best.mismatch(), |r| r.2.mismatch());
             if h.mismatch() < bar {
                 let done = h.mismatch() == 0;
@@ -218,6 +248,102 @@ pub fn choose_blocks(
     (best.blocks, best.checks)
 }
 
+/// The ways a block is two catalog blocks flush against each other (one b30 is two b15 end to
+/// end, one b15 is two b7_5 stacked), read from the catalog sizes: a type whose size is this
+/// type's with one axis halved (its x and z possibly swapped, i.e. turned 90 degrees).
+pub fn catalog_splits(b: &Block) -> Vec<[Block; 2]> {
+    let size = b.block_type.size_mm();
+    let yaw = yaw_deg(b);
+    let rot = b.rotation();
+    let mut out = Vec::new();
+    for k in 0..3 {
+        let mut half = size;
+        half[k] /= 2.0;
+        for t in CATALOG {
+            let s = t.size_mm();
+            let turn = if s.distance(half) < 1e-9 {
+                0.0
+            } else if DVec3::new(s.z, s.y, s.x).distance(half) < 1e-9 {
+                90.0
+            } else {
+                continue;
+            };
+            let mut step = DVec3::ZERO;
+            step[k] = size[k] / 4.0;
+            let step = rot * step;
+            let part_yaw = (yaw + turn).rem_euclid(180.0);
+            let part_yaw = if distinct_yaws_deg(t).len() == 1 { 0.0 } else { part_yaw };
+            out.push([
+                Block::new(t.id, b.center_mm - step, part_yaw),
+                Block::new(t.id, b.center_mm + step, part_yaw),
+            ]);
+        }
+    }
+    out
+}
+
+/// The single catalog block that two blocks flush against each other make, if any (the
+/// inverse of [`catalog_splits`]).
+pub fn catalog_merge(a: &Block, b: &Block) -> Option<Block> {
+    let centre = (a.center_mm + b.center_mm) / 2.0;
+    let same = |x: &Block, y: &Block| {
+        x.block_type.id == y.block_type.id && x.center_mm.distance(y.center_mm) < 0.1
+    };
+    CATALOG.iter().find_map(|t| {
+        distinct_yaws_deg(t).into_iter().find_map(|yaw| {
+            let m = Block::new(t.id, centre, yaw);
+            catalog_splits(&m)
+                .iter()
+                .any(|[p, q]| (same(p, a) && same(q, b)) || (same(p, b) && same(q, a)))
+                .then_some(m)
+        })
+    })
+}
+
+/// Another hypothesis that explains every view equally well, found by splitting one chosen
+/// block or merging two (a crack hidden in every view): then the views cannot tell which is
+/// the sample, and answering would risk a confident wrong answer. Returns a description.
+pub fn equally_good_alternative(
+    blocks: &[Block],
+    views: &[ObservedView],
+    tol_px: f64,
+) -> Option<String> {
+    let explains = |alt: &[Block]| {
+        views.iter().all(|v| {
+            compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, tol_px).is_explained()
+        })
+    };
+    for (i, b) in blocks.iter().enumerate() {
+        for halves in catalog_splits(b) {
+            let mut alt = blocks.to_vec();
+            alt.splice(i..=i, halves);
+            if explains(&alt) {
+                return Some(format!(
+                    "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
+                    b.block_type.id, halves[0].block_type.id
+                ));
+            }
+        }
+    }
+    for i in 0..blocks.len() {
+        for j in i + 1..blocks.len() {
+            let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
+                continue;
+            };
+            let mut alt: Vec<Block> = blocks.to_vec();
+            alt.remove(j);
+            alt[i] = m;
+            if explains(&alt) {
+                return Some(format!(
+                    "blocks {i} and {j} could as well be one {} (their crack is hidden in every view)",
+                    m.block_type.id
+                ));
+            }
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -233,5 +359,24 @@ mod tests {
         assert_eq!(pool.len(), 2);
         assert_eq!(pool[0].views, vec![0, 1]);
         assert_eq!(pool[1].views, vec![0]);
+    }
+
+    #[test]
+    fn a_b30_splits_into_two_b15_and_a_b15_into_two_stacked_b7_5() {
+        let b30 = Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 90.0);
+        let s = catalog_splits(&b30);
+        assert_eq!(s.len(), 1);
+        assert!(s[0].iter().all(|b| b.block_type.id == "b15"));
+        let zs: Vec<f64> = s[0].iter().map(|b| b.center_mm.z.round()).collect();
+        assert_eq!(zs, vec![15.0, 0.0], "a b30 turned 90 degrees runs along z");
+        let b15 = Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0);
+        let s = catalog_splits(&b15);
+        assert_eq!(s.len(), 1);
+        assert_eq!(s[0][1].center_mm, DVec3::new(7.5, 11.25, 7.5));
+        assert!(catalog_splits(&s[0][0]).is_empty(), "a b7_5 does not split");
+        let merged = catalog_merge(&s[0][1], &s[0][0]).unwrap();
+        assert_eq!((merged.block_type.id, merged.center_mm), ("b15", b15.center_mm));
+        let apart = Block::new("b15", DVec3::new(40.0, 7.5, 7.5), 0.0);
+        assert!(catalog_merge(&b15, &apart).is_none());
     }
 }

@@ -30,7 +30,10 @@ pub use catalog_match::{
     blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
     level_heights_mm, touching_pairs, Layer, MatchTolerances,
 };
-pub use compare::{choose_blocks, pool_candidates, yaw_deg, PooledCandidate, SearchLimits};
+pub use compare::{
+    catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates, yaw_deg,
+    PooledCandidate, SearchLimits,
+};
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
 pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Parallelogram,
@@ -110,6 +113,12 @@ pub enum Decline {
     UpperLayerLarger {
         /// Index of the overhanging block in the hypothesis.
         block: usize,
+    },
+    /// Another set of catalog blocks explains every view equally well.
+    #[error("the views do not decide the blocks: {detail}")]
+    Ambiguous {
+        /// Which blocks, and how.
+        detail: String,
     },
     /// A block with nothing under it.
     #[error("block {block} has no visible support (Chapter VII: every block touches the floor or another block)")]
@@ -310,6 +319,9 @@ pub fn recognize(views: &[ObservedView], opts: &RecognizeOptions) -> Result<Reco
     if let Some((v, c)) = views.iter().zip(&checks).find(|(_, c)| !c.is_explained()) {
         let view = v.camera.view.name().to_string();
         return Ok(Recognition::declined(Decline::Unexplained { view, check: *c }, evidence));
+    }
+    if let Some(detail) = equally_good_alternative(&blocks, views, opts.tol_px) {
+        return Ok(Recognition::declined(Decline::Ambiguous { detail }, evidence));
     }
     if let Some(&block) = overhanging_blocks(&blocks, 0.5, 1.0).first() {
         return Ok(Recognition::declined(Decline::UpperLayerLarger { block }, evidence));
