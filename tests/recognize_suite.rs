@@ -172,5 +172,22 @@ fn debug_one_scene() {
         println!("{v:?}");
     }
     println!("pooled {}", r.evidence.pooled_candidates);
+    let levels = blockworld::recognize::level_heights_mm(120.0);
+    for (vi, v) in observed.iter().enumerate() {
+        let search = blockworld::recognize::ParallelogramSearch::new(&v.drawing, 2.0);
+        for sv in blockworld::recognize::select_vertices(&v.drawing) {
+            for c in blockworld::recognize::TopCorner::ALL {
+                if let Some(p) = search.search(&sv, c) {
+                    let cands = blockworld::recognize::catalog_candidates(
+                        &p, &v.drawing, &v.camera, &levels, &Default::default());
+                    for b in &truth.blocks {
+                        if cands.iter().any(|x| x.block_type.id == b.block_type.id && x.center_mm.distance(b.center_mm) < 0.5) {
+                            println!("view {vi} vertex {} {:?} {:?} proposes truth {} {:?}", sv.index, sv.junction, c, b.block_type.id, b.center_mm);
+                        }
+                    }
+                }
+            }
+        }
+    }
     println!("{:?}", r.reason);
 }

@@ -103,10 +103,10 @@ impl Hypothesis {
     }
 }
 
-/// How many of `b`'s projected corners fall on observed points, over all views, those on
-/// still-unexplained points counted first: the cheap estimate that ranks candidates before the
-/// exact redraw. A block whose corners are all shared with chosen neighbours (the middle of a
-/// row, whose corners are cracks) still ranks by the points it would draw.
+/// The cheap estimates that rank candidates before the exact redraw: how many of `b`'s
+/// projected corners fall on still-unexplained observed points, and on any observed point,
+/// over all views. A block whose corners are all shared with chosen neighbours (the middle of
+/// a row, whose corners are cracks) still ranks by the second.
 fn corner_gain(b: &Block, views: &[ObservedView], h: &Hypothesis, tol_px: f64) -> (usize, usize) {
     let corners = b.world_vertices();
     let mut open_hits = 0;
@@ -121,13 +121,34 @@ fn corner_gain(b: &Block, views: &[ObservedView], h: &Hypothesis, tol_px: f64) -
     (open_hits, all_hits)
 }
 
+/// Candidate indices in the order they are redrawn: alternately the best by unexplained
+/// corners and the best by all corners on observed points, each once.
+fn redraw_order(mut ranked: Vec<(usize, (usize, usize))>) -> Vec<usize> {
+    ranked.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let by_open: Vec<usize> = ranked.iter().map(|r| r.0).collect();
+    ranked.sort_by(|a, b| (b.1 .1, b.1 .0).cmp(&(a.1 .1, a.1 .0)).then(a.0.cmp(&b.0)));
+    let by_all: Vec<usize> = ranked.iter().map(|r| r.0).collect();
+    let mut order = Vec::with_capacity(by_open.len());
+    for (a, b) in by_open.iter().zip(&by_all) {
+        for i in [*a, *b] {
+            if !order.contains(&i) {
+                order.push(i);
+            }
+        }
+    }
+    order
+}
+
 /// Search limits of [`choose_blocks`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SearchLimits {
     /// Picture tolerance of the comparisons, px.
     pub tol_px: f64,
-    /// How many best-ranked candidates are redrawn exactly per step.
+    /// How many best-ranked candidates are redrawn exactly per step; when none of them
+    /// improves the hypothesis, the next as many, and so on.
     pub shortlist: usize,
+    /// At most this many candidates redrawn per step.
+    pub max_redraws_per_step: usize,
     /// At most this many blocks are chosen.
     pub max_blocks: usize,
     /// At most this many repair rounds (each forbids one more chosen block).
@@ -147,7 +168,7 @@ fn greedy(
     let mut h = start;
     let mut chosen = Vec::new();
     while h.mismatch() > 0 && h.blocks.len() < limits.max_blocks {
-        let mut ranked: Vec<(usize, (usize, usize))> = pool
+        let ranked: Vec<(usize, (usize, usize))> = pool
             .iter()
             .enumerate()
             .filter(|(i, c)| {
@@ -156,9 +177,12 @@ fn greedy(
             .map(|(i, c)| (i, corner_gain(&c.block, views, &h, limits.tol_px)))
             .filter(|&(_, g)| g.1 > 0)
             .collect();
-        ranked.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let order = redraw_order(ranked);
         let mut best: Option<(usize, Hypothesis)> = None;
-        for &(i, _) in ranked.iter().take(limits.shortlist) {
+        for (n, &i) in order.iter().take(limits.max_redraws_per_step).enumerate() {
+            if best.is_some() && n % limits.shortlist.max(1) == 0 {
+                break;
+            }
             let mut blocks = h.blocks.clone();
             blocks.push(pool[i].block);
             let next = Hypothesis::new(blocks, views, limits.tol_px);

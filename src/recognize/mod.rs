@@ -40,7 +40,9 @@ pub use parallelogram::{
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
-pub use verify::{check_hypothesis, compare_drawings, draw_hypothesis, ViewCheck};
+pub use verify::{
+    check_hypothesis, compare_drawings, distance_to_segment_px, draw_hypothesis, ViewCheck,
+};
 
 use crate::drawing::LineDrawing;
 use crate::scene::{Block, ReconStatus, Scene};
@@ -67,8 +69,10 @@ pub struct RecognizeOptions {
     /// Lines more than this off every world axis mean blocks not in one direction, degrees;
     /// default 3.
     pub axis_tol_deg: f64,
-    /// Candidates redrawn exactly per search step; default 8.
+    /// Candidates redrawn exactly per search step before looking further; default 8.
     pub shortlist: usize,
+    /// Most candidates redrawn per search step; default 64.
+    pub max_redraws_per_step: usize,
     /// Most blocks in an answer; default 40.
     pub max_blocks: usize,
     /// Repair rounds of the search when views stay unexplained; default 4.
@@ -83,6 +87,7 @@ impl Default for RecognizeOptions {
             matching: MatchTolerances::default(),
             axis_tol_deg: 3.0,
             shortlist: 8,
+            max_redraws_per_step: 64,
             max_blocks: 40,
             repair_rounds: 4,
         }
@@ -308,6 +313,7 @@ pub fn recognize(views: &[ObservedView], opts: &RecognizeOptions) -> Result<Reco
     let limits = SearchLimits {
         tol_px: opts.tol_px,
         shortlist: opts.shortlist,
+        max_redraws_per_step: opts.max_redraws_per_step,
         max_blocks: opts.max_blocks,
         repair_rounds: opts.repair_rounds,
     };
