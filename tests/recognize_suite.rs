@@ -7,7 +7,8 @@ mod common;
 
 use blockworld::drawing::LineDrawing;
 use blockworld::recognize::{
-    check_hypothesis, recognize, ObservedView, RecognizeOptions, Recognition,
+    check_hypothesis, equally_good_alternative, recognize, ObservedView, RecognizeOptions,
+    Recognition,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Camera, CameraOptions, CornerView};
@@ -28,13 +29,17 @@ fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
         .collect()
 }
 
-/// `true` when every block has a line in some view.
+/// `true` when the views show the blocks: every block has a line in some view, and no other
+/// set of catalog blocks (one block split, two merged: a crack hidden in every view) draws the
+/// same views as the truth itself.
 fn every_block_shown(scene: &Scene, views: &[ObservedView]) -> bool {
     let shown: BTreeSet<usize> = views
         .iter()
         .flat_map(|v| v.drawing.edges.iter().map(|e| e.block))
         .collect();
+    let tol = RecognizeOptions::default().tol_px;
     shown.len() == scene.blocks.len()
+        && equally_good_alternative(&scene.blocks, views, tol).is_none()
 }
 
 #[derive(Default)]
@@ -112,6 +117,13 @@ fn all_four_views_from_truth_recognize_every_supported_scene_exactly() {
     let outcomes = run_suite(&CornerView::ALL);
     let (_, wrong, _) = table("four views, from truth", &outcomes);
     assert_eq!(wrong, 0, "confidently wrong answers");
+    let hidden: Vec<&str> = outcomes
+        .iter()
+        .filter(|o| o.supported && !o.shown)
+        .map(|o| o.id.as_str())
+        .collect();
+    println!("supported scenes the views do not decide: {hidden:?}");
+    assert!(hidden.len() <= 2, "the suite should mostly be decidable: {hidden:?}");
     for o in &outcomes {
         if o.supported && o.shown {
             assert_eq!(o.verdict, Verdict::Exact, "{} ({}): {:?}", o.id, o.family, o.recognition.reason);
@@ -153,41 +165,4 @@ fn the_check_step_catches_an_answer_with_a_block_dropped() {
             "dropping block {drop} went unnoticed"
         );
     }
-}
-
-#[test]
-#[ignore]
-fn debug_one_scene() {
-    let id = std::env::var("SCENE").unwrap();
-    let truth = read_scene(&common::root().join(format!("scenes/bench/{id}.json"))).unwrap();
-    let observed = truth_views(&truth, &CornerView::ALL);
-    let r = recognize(&observed, &RecognizeOptions::default()).unwrap();
-    for b in &truth.blocks {
-        println!("truth {} {:?} {:?}", b.block_type.id, b.center_mm, b.orientation);
-    }
-    for b in &r.evidence.hypothesis {
-        println!("hyp   {} {:?} {:?}", b.block_type.id, b.center_mm, b.orientation);
-    }
-    for v in &r.evidence.views {
-        println!("{v:?}");
-    }
-    println!("pooled {}", r.evidence.pooled_candidates);
-    let levels = blockworld::recognize::level_heights_mm(120.0);
-    for (vi, v) in observed.iter().enumerate() {
-        let search = blockworld::recognize::ParallelogramSearch::new(&v.drawing, 2.0);
-        for sv in blockworld::recognize::select_vertices(&v.drawing) {
-            for c in blockworld::recognize::TopCorner::ALL {
-                if let Some(p) = search.search(&sv, c) {
-                    let cands = blockworld::recognize::catalog_candidates(
-                        &p, &v.drawing, &v.camera, &levels, &Default::default());
-                    for b in &truth.blocks {
-                        if cands.iter().any(|x| x.block_type.id == b.block_type.id && x.center_mm.distance(b.center_mm) < 0.5) {
-                            println!("view {vi} vertex {} {:?} {:?} proposes truth {} {:?}", sv.index, sv.junction, c, b.block_type.id, b.center_mm);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    println!("{:?}", r.reason);
 }

@@ -3,7 +3,7 @@
 //! (the bottom layer at y = 0) and find which blocks touch.
 
 use super::parallelogram::{drop_below_mm, horizontal_axis_for, point_at_height_mm};
-use super::parallelogram::Parallelogram;
+use super::parallelogram::{Face, Parallelogram};
 use super::Camera;
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
@@ -67,10 +67,59 @@ pub fn distinct_yaws_deg(t: &BlockType) -> Vec<f64> {
     }
 }
 
-/// Every catalog block (type, yaw 0/90) whose top face has `p`'s vertex as the corner
-/// `p.corner` at one of `levels_mm`, with sides at least as long as the visible ones and a
-/// height at least the visible "down" edge (rule (1) of Chapter V: an edge may be occluded,
-/// never longer than the block). Empty when a side is not along a world axis.
+/// The horizontal axis into a block from its visible side face whose top edge runs along
+/// `along`: perpendicular to it, pointing away from the camera at `at_mm`.
+fn into_block_axis(camera: &Camera, at_mm: DVec3, along: DVec3) -> DVec3 {
+    let side = DVec3::new(along.z, 0.0, -along.x);
+    let towards_eye = if camera.is_orthographic() {
+        camera.towards_eye()
+    } else {
+        camera.eye() - at_mm
+    };
+    if side.dot(towards_eye) > 0.0 {
+        -side
+    } else {
+        side
+    }
+}
+
+/// The parallelogram's world corner, its two horizontal edge axes and their least lengths
+/// (the visible sides) at top height `y_top_mm`; `None` when a side is off the world axes.
+fn measure_at(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    y_top_mm: f64,
+    tol: &MatchTolerances,
+) -> Option<(DVec3, [DVec3; 2], [f64; 2])> {
+    let v_px = p.vertex.at_px;
+    let corner = point_at_height_mm(camera, v_px, y_top_mm)?;
+    let horizontal = match p.face {
+        Face::Top(_) => 2,
+        Face::Side(_) => 1,
+    };
+    let mut axes = [DVec3::ZERO; 2];
+    let mut min_len = [0.0; 2];
+    for k in 0..horizontal {
+        let end_px = drawing.points[p.sides[k].first()?.point];
+        let (axis, ang) = horizontal_axis_for(camera, corner, end_px - v_px);
+        if ang > tol.axis_deg {
+            return None;
+        }
+        axes[k] = axis;
+        min_len[k] = point_at_height_mm(camera, end_px, y_top_mm).map_or(0.0, |q| q.distance(corner));
+    }
+    if horizontal == 1 {
+        axes[1] = into_block_axis(camera, corner, axes[0]);
+    }
+    (axes[0].dot(axes[1]).abs() < 0.5).then_some((corner, axes, min_len))
+}
+
+/// Every catalog block (type, yaw 0/90) that has `p`'s vertex as the corner `p.face` of its
+/// top face (or the top corner of a side face) at one of `levels_mm`, with edges at least as
+/// long as the visible ones and a height at least the visible "down" edge (rule (1) of
+/// Chapter V: an edge may be occluded, never longer than the block). Empty when a side is not
+/// along a world axis.
 pub fn catalog_candidates(
     p: &Parallelogram,
     drawing: &LineDrawing,
@@ -79,29 +128,10 @@ pub fn catalog_candidates(
     tol: &MatchTolerances,
 ) -> Vec<Block> {
     let mut out = Vec::new();
-    let v_px = p.vertex.at_px;
     for &y_top in levels_mm {
-        let Some(corner) = point_at_height_mm(camera, v_px, y_top) else {
+        let Some((corner, axes, min_len)) = measure_at(p, drawing, camera, y_top, tol) else {
             continue;
         };
-        let mut axes = [DVec3::ZERO; 2];
-        let mut min_len = [0.0; 2];
-        for k in 0..2 {
-            let Some(first) = p.sides[k].first() else {
-                return out;
-            };
-            let end_px = drawing.points[first.point];
-            let (axis, ang) = horizontal_axis_for(camera, corner, end_px - v_px);
-            if ang > tol.axis_deg {
-                return out;
-            }
-            axes[k] = axis;
-            min_len[k] = point_at_height_mm(camera, end_px, y_top)
-                .map_or(0.0, |q| q.distance(corner));
-        }
-        if axes[0].dot(axes[1]).abs() > 0.5 {
-            return out;
-        }
         let min_height = p
             .down_end
             .map_or(0.0, |e| drop_below_mm(camera, corner, drawing.points[e]));
@@ -191,6 +221,7 @@ pub fn touching_pairs(blocks: &[Block], tol_mm: f64) -> Vec<[usize; 2]> {
 #[cfg(test)]
 mod tests {
     use super::super::parallelogram::{ParallelogramSearch, TopCorner};
+    use super::super::parallelogram::Face as F;
     use super::super::select::select_vertices;
     use super::*;
     use crate::render::truth::visible_line_drawing;
@@ -212,7 +243,7 @@ mod tests {
         let levels = level_heights_mm(45.0);
         let mut all = Vec::new();
         for v in select_vertices(&d) {
-            if let Some(p) = search.search(&v, TopCorner::Near) {
+            if let Some(p) = search.search(&v, F::Top(TopCorner::Near)) {
                 all.extend(catalog_candidates(&p, &d, &cam, &levels, &MatchTolerances::default()));
             }
         }

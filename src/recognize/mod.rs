@@ -36,7 +36,7 @@ pub use compare::{
 };
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
 pub use parallelogram::{
-    drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Parallelogram,
+    drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
@@ -276,8 +276,8 @@ fn propose(view: &ObservedView, levels: &[f64], opts: &RecognizeOptions) -> (Vec
     };
     let mut out = Vec::new();
     for v in &selected {
-        for corner in TopCorner::ALL {
-            let Some(p) = search.search(v, corner) else {
+        for face in Face::ALL {
+            let Some(p) = search.search(v, face) else {
                 continue;
             };
             ev.parallelograms += 1;

@@ -43,6 +43,40 @@ impl TopCorner {
     }
 }
 
+/// Which face a parallelogram is (Figure 4.5: a vertex has plane formations on top, on the
+/// left and on the right).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Face {
+    /// A top face, with the vertex as the given corner.
+    Top(TopCorner),
+    /// A side face whose top edge leaves the vertex in the given direction, the vertex being a
+    /// top corner of it with the vertical edge below: what is left of a block whose top is
+    /// hidden under the layer above.
+    Side(Direction),
+}
+
+impl Face {
+    /// Every formation searched: the four top corners, then the four side faces.
+    pub const ALL: [Face; 8] = [
+        Face::Top(TopCorner::Near),
+        Face::Top(TopCorner::Left),
+        Face::Top(TopCorner::Right),
+        Face::Top(TopCorner::Far),
+        Face::Side(Direction::LeftUp),
+        Face::Side(Direction::RightUp),
+        Face::Side(Direction::LeftDown),
+        Face::Side(Direction::RightDown),
+    ];
+
+    /// The two picture directions of the parallelogram's sides at the vertex.
+    pub fn sides(self) -> [Direction; 2] {
+        match self {
+            Face::Top(c) => c.sides(),
+            Face::Side(d) => [d, Direction::Down],
+        }
+    }
+}
+
 /// One point reached while following a straight line from a vertex: the drawing point and its
 /// distance from the start in px.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,10 +93,11 @@ pub struct ChainStop {
 pub struct Parallelogram {
     /// The vertex searched from.
     pub vertex: SelectedVertex,
-    /// Which top-face corner the vertex is taken to be.
-    pub corner: TopCorner,
+    /// Which face, and which corner of it the vertex is taken to be.
+    pub face: Face,
     /// Every point reached along the first and second side direction (collinear lines
-    /// followed through "T" points), nearest first.
+    /// followed through "T" points), nearest first; for a side face the second side is the
+    /// vertical edge.
     pub sides: [Vec<ChainStop>; 2],
     /// The first side's and second side's lengths of the smallest closed parallelogram, px;
     /// `None` when no stop pair closes (a side occluded: rule (1) of Chapter V then takes the
@@ -147,10 +182,10 @@ impl<'a> ParallelogramSearch<'a> {
         stops
     }
 
-    /// Searches the top-face parallelogram at `v` taken as `corner`: `None` when the code lacks
-    /// either side direction (rule (3) of Chapter V: no block on that side).
-    pub fn search(&self, v: &SelectedVertex, corner: TopCorner) -> Option<Parallelogram> {
-        let [d1, d2] = corner.sides();
+    /// Searches the parallelogram `face` at `v`: `None` when the code lacks either side
+    /// direction (rule (3) of Chapter V: no block on that side).
+    pub fn search(&self, v: &SelectedVertex, face: Face) -> Option<Parallelogram> {
+        let [d1, d2] = face.sides();
         if !(v.code.has(d1) && v.code.has(d2)) {
             return None;
         }
@@ -163,7 +198,7 @@ impl<'a> ParallelogramSearch<'a> {
             .and_then(|c| c.first().copied());
         Some(Parallelogram {
             vertex: *v,
-            corner,
+            face,
             sides,
             closed_px,
             down_px: down.map(|s| s.length_px),
@@ -246,12 +281,12 @@ mod tests {
         let d = cube_drawing(10.0, DVec2::new(100.0, 100.0));
         let search = ParallelogramSearch::new(&d, 0.5);
         let fork = select_vertices(&d).into_iter().find(|v| v.index == 6).unwrap();
-        let p = search.search(&fork, TopCorner::Near).unwrap();
+        let p = search.search(&fork, Face::Top(TopCorner::Near)).unwrap();
         let [a, b] = p.closed_px.unwrap();
         assert!((a - 10.0).abs() < 1e-9 && (b - 10.0).abs() < 1e-9, "{a} {b}");
         assert!((p.down_px.unwrap() - 10.0).abs() < 1e-9);
         // The fork has no right-down line: no face on that side (rule 3).
-        assert!(search.search(&fork, TopCorner::Left).is_none());
+        assert!(search.search(&fork, Face::Top(TopCorner::Left)).is_none());
     }
 
     #[test]
@@ -271,7 +306,7 @@ mod tests {
         let search = ParallelogramSearch::new(&d, 0.5);
         let longest = select_vertices(&d)
             .iter()
-            .filter_map(|v| search.search(v, TopCorner::Near))
+            .filter_map(|v| search.search(v, Face::Top(TopCorner::Near)))
             .map(|p| p.sides.iter().map(|s| s.len()).max().unwrap_or(0))
             .max()
             .unwrap();
