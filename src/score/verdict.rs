@@ -59,8 +59,8 @@ impl Verdict {
         matches!(self, Verdict::Exact | Verdict::Partial)
     }
 
-    /// How good the verdict is, for the gate: `exact` 3 > `unsupported` 2 (an honest decline)
-    /// > `partial` 1 > `failed` 0. A decline ranks above a partial answer because a recognizer
+    /// How good the verdict is, for the gate: `exact` 3, `unsupported` 2 (an honest decline),
+    /// `partial` 1, `failed` 0. A decline ranks above a partial answer because a recognizer
     /// must never be confidently wrong (README "Recognizer").
     pub fn rank(self) -> u8 {
         match self {
