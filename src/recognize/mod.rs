@@ -20,6 +20,7 @@ mod catalog_match;
 mod compare;
 mod constraints;
 mod parallelogram;
+mod regularize;
 mod select;
 mod verify;
 
@@ -39,6 +40,7 @@ pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
+pub use regularize::{snap_to_shared_planes, SHARED_PLANE_TOL_MM};
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
 pub use verify::{
     check_hypothesis, compare_drawings, distance_to_segment_px, draw_hypothesis, ViewCheck,
@@ -317,6 +319,7 @@ pub fn recognize(
         per_view.push(blocks);
         evidence.views.push(ev);
     }
+    let per_view = snap_to_shared_planes(&per_view, SHARED_PLANE_TOL_MM);
     let pool = pool_candidates(&per_view, 0.5);
     evidence.pooled_candidates = pool.len();
     let limits = SearchLimits {
