@@ -23,4 +23,5 @@ pub mod physics;
 pub mod render;
 pub mod scene;
 pub mod score;
+pub mod view;
 pub mod vision;

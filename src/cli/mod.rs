@@ -42,6 +42,8 @@ pub enum Command {
     Export(commands::export::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
+    /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
+    View(commands::view::Args),
 }
 
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
@@ -74,6 +76,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::View(a) => commands::view::run(a),
     }
 }
 

@@ -12,6 +12,12 @@
 //! functions return bytes and `cli` writes them.
 
 mod mesh;
+mod thesis;
+
+pub use thesis::{
+    parse_thesis_files, scene_to_thesis_files, thesis_model_to_scene, thesis_origin_mm,
+    ThesisDataFiles, ThesisFormatError, ThesisModel, Truncation, THESIS_UNIT_MM,
+};
 
 use crate::scene::{BlockType, Scene};
 use gltf::json;

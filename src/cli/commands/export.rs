@@ -16,6 +16,10 @@ pub struct Args {
     /// `<stem>.bin` beside it.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// gltf (by the output's extension), or thesis: the two data files of Appendix B,
+    /// OUTPUT_vertices.txt and OUTPUT_connections.txt, in block units (Chapter VI).
+    #[arg(long, default_value = "gltf")]
+    pub format: String,
 }
 
 /// The two glTF forms, chosen by the output's extension.
@@ -42,6 +46,11 @@ fn form_of(path: &Path) -> anyhow::Result<Form> {
 /// Runs `blockworld export`: reads and validates the scene, builds the glTF and writes it
 /// atomically (for `.gltf`, the `.bin` first so the JSON never points at a missing file).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    match args.format.to_ascii_lowercase().as_str() {
+        "gltf" => {}
+        "thesis" => return run_thesis(&args),
+        other => bail!("--format: unknown format {other:?}; the formats are gltf and thesis"),
+    }
     let form = form_of(&args.output)?;
     let scene = read_scene(&args.scene)?;
     let out = &args.output;
@@ -80,5 +89,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// `--format thesis`: the Appendix B data files, vertices first so a reader that finds the
+/// connections file finds its vertices too.
+fn run_thesis(args: &Args) -> anyhow::Result<()> {
+    let scene = super::view::read_model(&args.scene, crate::export::Truncation::Strict)?;
+    let files = crate::export::scene_to_thesis_files(&scene).with_context(|| {
+        format!(
+            "exporting {} as Appendix B data files",
+            args.scene.display()
+        )
+    })?;
+    let prefix = args.output.display().to_string();
+    for (suffix, text) in [
+        ("_vertices.txt", &files.vertices),
+        ("_connections.txt", &files.connections),
+    ] {
+        let path = PathBuf::from(format!("{prefix}{suffix}"));
+        write_atomic(&path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    println!(
+        "{}: {} blocks -> {prefix}_vertices.txt, {prefix}_connections.txt (block units of {} mm)",
+        args.scene.display(),
+        scene.blocks.len(),
+        crate::export::THESIS_UNIT_MM
+    );
     Ok(())
 }

@@ -10,3 +10,4 @@ pub mod render;
 pub mod score;
 pub mod settle;
 pub mod vertices;
+pub mod view;
