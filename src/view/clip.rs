@@ -224,4 +224,34 @@ mod tests {
         let (t0, t1) = cut(v(0.0, 0.6, 0.5), v(0.6, 0.0, 0.5));
         assert!(t0 > 0.0 && t1 < 1.0 && t0 < t1);
     }
+
+    #[test]
+    fn every_plane_cuts_a_line_leaving_through_it_and_one_entering_through_it() {
+        let inside = v(0.0, 0.0, 0.5);
+        let outside: [DVec3; 6] = [
+            v(0.0, 2.0, 0.5),  // above
+            v(0.0, -2.0, 0.5), // below
+            v(2.0, 0.0, 0.5),  // right
+            v(-2.0, 0.0, 0.5), // left
+            v(0.0, 0.0, 0.0),  // in front of the hither plane
+            v(0.0, 0.0, 2.0),  // beyond the yon plane
+        ];
+        for (out, (bit, side)) in outside.into_iter().zip(PLANES) {
+            // Each plane's side function is zero on the plane.
+            let on_plane = |p: DVec3| side(p, Z_MIN);
+            assert_eq!(OutCode::of(out, Z_MIN).0, bit);
+            let (t0, t1) = cut(inside, out);
+            assert!(near(t0, 0.0) && t1 < 1.0, "leaving {bit}");
+            assert!(
+                on_plane(point_at(inside, out, t1)).abs() < 1e-12,
+                "leaving {bit}"
+            );
+            let (t0, t1) = cut(out, inside);
+            assert!(t0 > 0.0 && near(t1, 1.0), "entering {bit}");
+            assert!(
+                on_plane(point_at(out, inside, t0)).abs() < 1e-12,
+                "entering {bit}"
+            );
+        }
+    }
 }

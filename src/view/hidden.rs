@@ -9,13 +9,15 @@
 
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 
-/// How far inside a face's pyramid and behind its plane a point must be to count as hidden,
-/// in mm: the contact tolerance of README "Conventions", so an edge lying on a face (its own,
-/// or a touching block's) stays visible.
+/// How far behind a face's plane a point must be to count as hidden, and how far outside its
+/// pyramid it may be and still count as inside, in mm: the contact tolerance of README
+/// "Conventions". An edge lying on a face (its own, or a touching block's) stays visible; an
+/// edge seen exactly behind the boundary of two faces (the back edge of a cube seen along its
+/// diagonal) is hidden, not left as a sliver between the two pyramids.
 const HIDDEN_TOL_MM: f64 = CONTACT_TOL_MM;
 
-/// A convex face as the half-spaces (unit normal n, offset c: n·p - c >= 0 inside) whose
-/// intersection is the region it hides.
+/// A convex face as the half-spaces (unit normal n, offset c: n·p - c > 0 inside, the
+/// tolerance folded into c) whose intersection is the region it hides.
 #[derive(Debug, Clone)]
 pub struct Occluder {
     half_spaces: Vec<(DVec3, f64)>,
@@ -34,7 +36,7 @@ pub fn occluder(polygon_eye_mm: &[DVec3]) -> Option<Occluder> {
         return None;
     }
     // Behind the plane: on the side away from the eye, whose value is n·0 - d = -d.
-    let mut half_spaces = vec![(normal * d.signum(), d.abs())];
+    let mut half_spaces = vec![(normal * d.signum(), d.abs() + HIDDEN_TOL_MM)];
     for (i, a) in polygon_eye_mm.iter().enumerate() {
         let b = polygon_eye_mm[(i + 1) % polygon_eye_mm.len()];
         let n = a.cross(b);
@@ -42,7 +44,7 @@ pub fn occluder(polygon_eye_mm: &[DVec3]) -> Option<Occluder> {
             continue;
         }
         let n = n.normalize();
-        half_spaces.push((if n.dot(centroid) < 0.0 { -n } else { n }, 0.0));
+        half_spaces.push((if n.dot(centroid) < 0.0 { -n } else { n }, -HIDDEN_TOL_MM));
     }
     Some(Occluder { half_spaces })
 }
@@ -60,7 +62,7 @@ fn newell_normal(polygon: &[DVec3]) -> Option<DVec3> {
 fn hidden_interval(occ: &Occluder, p1: DVec3, p2: DVec3) -> Option<(f64, f64)> {
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     for &(n, c) in &occ.half_spaces {
-        let (g1, g2) = (n.dot(p1) - c - HIDDEN_TOL_MM, n.dot(p2) - c - HIDDEN_TOL_MM);
+        let (g1, g2) = (n.dot(p1) - c, n.dot(p2) - c);
         if g1 <= 0.0 && g2 <= 0.0 {
             return None;
         }

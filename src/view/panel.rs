@@ -73,17 +73,14 @@ pub struct ViewParams {
 }
 
 impl ViewParams {
-    /// A view of all `models` from the south-east corner at the isometric elevation (direction
+    /// A view of all `scenes` from the south-east corner at the isometric elevation (direction
     /// (1, 1, 1)), At at the centre of their bounds, Up = +y, far enough that the bounding
     /// sphere fits the view angle.
-    pub fn framing(models: &[WireModel], view_angle_deg: f64) -> Result<ViewParams, ViewError> {
-        let (lo, hi) = models
+    pub fn framing(scenes: &[&Scene], view_angle_deg: f64) -> Result<ViewParams, ViewError> {
+        let (lo, hi) = scenes
             .iter()
-            .flat_map(|m| m.vertices_mm.iter().copied())
-            .fold(None, |acc: Option<(DVec3, DVec3)>, v| match acc {
-                None => Some((v, v)),
-                Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
-            })
+            .filter_map(|s| s.bounds_mm())
+            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
             .ok_or(ViewError::NothingToView)?;
         check_angle(view_angle_deg)?;
         let at_mm = (lo + hi) / 2.0;
@@ -401,6 +398,10 @@ fn draw_edge(
     for (s0, s1) in visible_parts(p1, p2, occluders) {
         let a = panel.picture_px(t.canonical(point_at(p1, p2, s0)));
         let b = panel.picture_px(t.canonical(point_at(p1, p2, s1)));
+        let split = (s0, s1) != (0.0, 1.0);
+        if split && (b - a).length() < MIN_PIECE_PX {
+            continue;
+        }
         panel.lines.push(PictureLine {
             a_px: a,
             b_px: b,
@@ -408,6 +409,11 @@ fn draw_edge(
         });
     }
 }
+
+/// Pieces of an edge that hidden-line removal leaves shorter than this (px) are dropped: they
+/// are the ends of hidden edges within the contact tolerance of the vertex where they meet a
+/// visible face, and less than a pixel long.
+const MIN_PIECE_PX: f64 = 1.0;
 
 /// Ambient share of the flat shading; the rest is diffuse (Lambert).
 const AMBIENT: f64 = 0.35;
@@ -439,4 +445,167 @@ fn label_lines(p: &ViewParams) -> Vec<String> {
         format!("UP {}", v(p.up)),
         format!("ANGLE {:.0}", p.view_angle_deg),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Block;
+
+    /// One Baustein 15 resting on the floor at the origin.
+    fn cube() -> Scene {
+        Scene::new(
+            "cube",
+            vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)],
+        )
+    }
+
+    /// Looking at the cube from a corner above, 100 mm away.
+    fn corner_view() -> ViewParams {
+        ViewParams {
+            from_mm: DVec3::new(60.0, 65.0, 60.0),
+            at_mm: DVec3::new(0.0, 7.5, 0.0),
+            up: DVec3::Y,
+            view_angle_deg: 60.0,
+        }
+    }
+
+    fn sheet(params: &ViewParams, opts: &SheetOptions) -> Sheet {
+        draw_sheet(&[wire_model(&cube(), Role::Model)], params, opts).unwrap()
+    }
+
+    #[test]
+    fn a_cube_is_8_vertices_6_faces_and_12_edges() {
+        let m = wire_model(&cube(), Role::Model);
+        assert_eq!(
+            (m.vertices_mm.len(), m.faces.len(), m.edges.len()),
+            (8, 6, 12)
+        );
+    }
+
+    #[test]
+    fn a_corner_view_shows_12_edges_or_the_9_visible_ones() {
+        let all = sheet(&corner_view(), &SheetOptions::default());
+        assert_eq!(all.panels[0].lines.len(), 12);
+        assert_eq!(all.panels[0].clipped_lines, 0);
+        let opts = SheetOptions {
+            hidden_lines: HiddenLines::Remove,
+            ..SheetOptions::default()
+        };
+        // From on the diagonal: the hidden back edge lies exactly behind the front one.
+        assert_eq!(sheet(&corner_view(), &opts).panels[0].lines.len(), 9);
+    }
+
+    #[test]
+    fn at_projects_to_the_window_centre() {
+        let s = sheet(&corner_view(), &SheetOptions::default());
+        let p = &s.panels[0];
+        let t = ViewingTransform::new(
+            p.params.from_mm,
+            p.params.at_mm,
+            p.params.up,
+            60.0,
+            (1.0, 500.0),
+        )
+        .unwrap();
+        let at = p.picture_px(t.canonical(t.eye(p.params.at_mm)));
+        assert!((at - DVec2::new(256.0, 256.0)).length() < 1e-9);
+    }
+
+    #[test]
+    fn moving_from_toward_at_until_it_clips() {
+        let near = corner_view().move_from(80.0).unwrap();
+        assert!(((near.at_mm - near.from_mm).length() - 22.5).abs() < 1e-9);
+        let s = sheet(&near, &SheetOptions::default());
+        assert!(s.panels[0].clipped_lines > 0);
+        let e = corner_view().move_from(200.0);
+        assert!(matches!(e, Err(ViewError::MoveFromPastAt { .. })));
+        assert!(corner_view().move_from(-50.0).is_ok());
+    }
+
+    #[test]
+    fn a_smaller_view_angle_magnifies() {
+        let span = |angle: f64| {
+            let p = ViewParams {
+                view_angle_deg: angle,
+                ..corner_view()
+            };
+            let s = sheet(&p, &SheetOptions::default());
+            let xs: Vec<f64> = s.panels[0]
+                .lines
+                .iter()
+                .flat_map(|l| [l.a_px.x, l.b_px.x])
+                .collect();
+            xs.iter().cloned().fold(f64::MIN, f64::max)
+                - xs.iter().cloned().fold(f64::MAX, f64::min)
+        };
+        // D = 1/tan(15°) against 1/tan(30°): 2.15 times larger.
+        let ratio = span(30.0) / span(60.0);
+        let expected = (30f64.to_radians()).tan() / (15f64.to_radians()).tan();
+        assert!((ratio - expected).abs() < 1e-9, "{ratio} vs {expected}");
+    }
+
+    #[test]
+    fn four_viewports_tile_the_sheet_and_turn_from_about_at() {
+        let opts = SheetOptions {
+            viewports: 4,
+            ..SheetOptions::default()
+        };
+        let s = sheet(&corner_view(), &opts);
+        assert_eq!(s.panels.len(), 4);
+        assert_eq!(s.panels[0].rect_px.y0_px, 256.0);
+        assert_eq!(s.panels[3].rect_px.x0_px, 256.0);
+        // A quarter turn of R_y (eq. 2.3b) takes the south-east From (+x, +z) to (+x, -z).
+        let f = s.panels[1].params.from_mm;
+        assert!((f - DVec3::new(60.0, 65.0, -60.0)).length() < 1e-9, "{f}");
+        assert!(matches!(
+            draw_sheet(
+                &[],
+                &corner_view(),
+                &SheetOptions {
+                    viewports: 0,
+                    ..opts
+                }
+            ),
+            Err(ViewError::BadViewports { viewports: 0 })
+        ));
+    }
+
+    #[test]
+    fn shading_lights_the_faces_toward_the_light_and_hides_the_back_ones() {
+        let opts = SheetOptions {
+            shade: true,
+            ..SheetOptions::default()
+        };
+        let s = sheet(&corner_view(), &opts);
+        let p = &s.panels[0];
+        assert_eq!(p.faces.len(), 6);
+        assert_eq!(p.lines.len(), 9, "shading removes hidden lines");
+        let lit = p
+            .faces
+            .iter()
+            .filter(|f| f.intensity > AMBIENT + 1e-9)
+            .count();
+        assert!((1..=3).contains(&lit), "{lit} faces lit");
+    }
+
+    #[test]
+    fn framing_sees_the_whole_model_and_an_empty_one_is_an_error() {
+        let p = ViewParams::framing(&[&cube()], 60.0).unwrap();
+        assert_eq!(p.at_mm, DVec3::new(0.0, 7.5, 0.0));
+        let s = sheet(&p, &SheetOptions::default());
+        assert_eq!(
+            (s.panels[0].lines.len(), s.panels[0].clipped_lines),
+            (12, 0)
+        );
+        let empty = Scene::new("empty", Vec::new());
+        assert_eq!(
+            ViewParams::framing(&[&empty], 60.0),
+            Err(ViewError::NothingToView)
+        );
+        assert!(matches!(
+            ViewParams::framing(&[&cube()], 180.0),
+            Err(ViewError::BadViewAngle { .. })
+        ));
+    }
 }

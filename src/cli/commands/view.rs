@@ -7,6 +7,7 @@
 use crate::export::{parse_thesis_files, thesis_model_to_scene, Truncation};
 use crate::geom::DVec3;
 use crate::io::write_atomic;
+use crate::output::encode_png_rgb8;
 use crate::scene::{read_reconstruction, Scene};
 use crate::view::{
     draw_sheet, rasterize_sheet, sheet_to_svg, wire_model, HiddenLines, Role, SheetOptions,
@@ -77,23 +78,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Truncation::Strict
     };
     let model = read_model(&args.model, truncation)?;
-    let mut models = Vec::new();
-    if let Some(truth) = &args.overlay {
-        models.push(wire_model(&read_model(truth, truncation)?, Role::Truth));
-        models.push(wire_model(&model, Role::Reconstruction));
-    } else {
-        models.push(wire_model(&model, Role::Model));
-    }
+    let truth = match &args.overlay {
+        Some(path) => Some(read_model(path, truncation)?),
+        None => None,
+    };
+    let (models, scenes) = match &truth {
+        Some(t) => (
+            vec![
+                wire_model(t, Role::Truth),
+                wire_model(&model, Role::Reconstruction),
+            ],
+            vec![t, &model],
+        ),
+        None => (vec![wire_model(&model, Role::Model)], vec![&model]),
+    };
     if args.world {
         print!("{}", world_table(&models));
     }
-    let params = view_params(&args, &models)?;
+    let params = view_params(&args, &scenes)?;
     let opts = sheet_options(&args)?;
     let sheet = draw_sheet(&models, &params, &opts).context("drawing the view")?;
     let bytes = if svg {
         sheet_to_svg(&sheet).into_bytes()
     } else {
-        encode_png_rgb(&rasterize_sheet(&sheet))?
+        encode_png_rgb8(&rasterize_sheet(&sheet)).context("encoding the view PNG")?
     };
     write_atomic(&args.output, &bytes)
         .with_context(|| format!("writing {}", args.output.display()))?;
@@ -202,8 +210,8 @@ fn parse_point(option: &str, text: &str) -> anyhow::Result<DVec3> {
     Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
-fn view_params(args: &Args, models: &[WireModel]) -> anyhow::Result<ViewParams> {
-    let framing = ViewParams::framing(models, args.view_angle)?;
+fn view_params(args: &Args, scenes: &[&Scene]) -> anyhow::Result<ViewParams> {
+    let framing = ViewParams::framing(scenes, args.view_angle)?;
     let at_mm = match &args.at {
         Some(t) => parse_point("--at", t)?,
         None => framing.at_mm,
@@ -248,19 +256,4 @@ fn sheet_options(args: &Args) -> anyhow::Result<SheetOptions> {
         shade: args.shade,
         ..SheetOptions::default()
     })
-}
-
-/// PNG bytes of an RGB image.
-fn encode_png_rgb(img: &image::RgbImage) -> anyhow::Result<Vec<u8>> {
-    use image::ImageEncoder;
-    let mut bytes = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(
-            img.as_raw(),
-            img.width(),
-            img.height(),
-            image::ExtendedColorType::Rgb8,
-        )
-        .context("encoding the view PNG")?;
-    Ok(bytes)
 }
