@@ -7,10 +7,10 @@
 
 mod common;
 
+use blockworld::camera::{Camera, CornerView, Projection, DEPTH_UNITS_PER_MM};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::render::{
-    Backend, Camera, CornerView, Projection, RenderError, RenderOptions, RenderedView, Renderer,
-    BACKGROUND_LEVEL, DEPTH_UNITS_PER_MM, SEAM_LEVEL,
+    Backend, RenderError, RenderOptions, RenderedView, Renderer, BACKGROUND_LEVEL, SEAM_LEVEL,
 };
 use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, Tolerance};
@@ -156,7 +156,7 @@ fn single_cube_top_left_right_and_floor_have_distinct_levels_in_every_view() {
         // The visible faces, projected; left/right by the picture x of their centres.
         let mut sides = Vec::new();
         let mut top = Vec::new();
-        for (f, face) in block.block_type.faces.iter().enumerate() {
+        for (f, face) in block.block_type.faces().iter().enumerate() {
             let n = block.world_face_normal(f);
             if n.dot(c.towards_eye()) <= 0.0 {
                 continue;
@@ -332,7 +332,7 @@ fn ray_hit(scene: &Scene, c: &Camera, o: DVec3, d: DVec3) -> Option<(u16, f64)> 
     for (i, b) in scene.blocks.iter().enumerate() {
         let v = b.world_vertices();
         let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
-        for (f, face) in b.block_type.faces.iter().enumerate() {
+        for (f, face) in b.block_type.faces().iter().enumerate() {
             let n = b.world_face_normal(f);
             let denom = n.dot(d);
             let num = n.dot(v[face[0] as usize] - o);

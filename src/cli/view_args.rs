@@ -1,9 +1,10 @@
 //! Render options shared by every command that renders (`render`, `demo`, `generate`,
 //! `bench ...`), flattened into their clap `Args`.
 
-use crate::geom::ISOMETRIC_ELEVATION_DEG;
-use crate::render::{Backend, CameraOptions, CornerView, Projection, RenderOptions};
 use anyhow::{bail, Context};
+use blockworld::camera::{CameraOptions, CornerView, Projection};
+use blockworld::geom::ISOMETRIC_ELEVATION_DEG;
+use blockworld::render::{Backend, RenderOptions};
 
 /// How views are rendered (issue #2 "Renderer").
 #[derive(Debug, Clone, clap::Args)]

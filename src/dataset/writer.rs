@@ -13,9 +13,10 @@ use super::manifest::{
     ManifestEntry, MANIFEST_NAME,
 };
 use super::{DatasetError, Family, Shard};
+use crate::camera::CornerView;
 use crate::io::write_atomic;
 use crate::physics::SettleParams;
-use crate::render::{CornerView, RenderOptions, Renderer};
+use crate::render::{RenderOptions, Renderer};
 use crate::scene::{scene_to_json, write_scene};
 use rayon::prelude::*;
 use serde_json::{json, Value};

@@ -8,11 +8,15 @@
 //! example up + down + ld + ru = 27. Appendix A (Figure A.6) prints another order and its
 //! row E contradicts it; this crate follows Chapter IV (see README "Thesis readings").
 
+mod axis;
 mod code;
 mod junction;
+mod read;
 
+pub use axis::EdgeAxis;
 pub use code::{Direction, SixBitCode, HORIZONTAL_TOL_DEG, VERTICAL_TOL_DEG};
-pub use junction::{classify_junction, Junction, COLLINEAR_TOL_DEG};
+pub use junction::{classify_junction, Junction, ThesisClass, COLLINEAR_TOL_DEG};
+pub use read::DrawingError;
 
 use crate::geom::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};

@@ -2,13 +2,12 @@
 //! wgpu (Vulkan on lavapipe by default), plus their ground truth: depth, block ids and the exact
 //! visible line drawing computed from geometry.
 //!
-//! `camera` is pure math shared with `vision`; `truth` is pure geometry; only `gpu` touches wgpu.
+//! The camera is the shared `crate::camera`; `truth` is pure geometry; only `gpu` touches wgpu.
 
-pub mod camera;
 mod gpu;
 pub mod truth;
 
-pub use camera::{Camera, CameraOptions, CornerView, Projection};
+use crate::camera::{Camera, CameraOptions, CornerView, Projection, DEPTH_UNITS_PER_MM};
 
 use crate::drawing::LineDrawing;
 use crate::geom::DVec3;
@@ -68,9 +67,6 @@ pub struct RenderedView {
     pub lines: LineDrawing,
 }
 
-/// Depth PNG scale: steps per millimetre (1/16 mm resolution, up to 4095.9 mm).
-pub const DEPTH_UNITS_PER_MM: f64 = 16.0;
-
 /// Rendering errors; each says what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -88,9 +84,6 @@ pub enum RenderError {
     /// Options that cannot be rendered (size, MSAA count).
     #[error("invalid render options: {0}")]
     Options(String),
-    /// Kept from the pinned API for callers that match on it; the renderer no longer returns it.
-    #[error("the renderer is not implemented yet")]
-    Unimplemented,
 }
 
 /// Gray level of the background (where neither the floor nor a block is seen).

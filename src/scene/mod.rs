@@ -8,13 +8,16 @@
 mod catalog;
 mod error;
 mod file;
+mod reconstruction;
 mod sat;
 
-pub use catalog::{block_type, BlockType, CATALOG};
+pub use catalog::{block_type, BlockType, ConvexPolyhedron, Shape, CATALOG};
 pub use error::SceneError;
 pub use file::{
-    parse_reconstruction, parse_scene, read_reconstruction, read_scene, scene_to_json, write_scene,
+    parse_reconstruction, parse_scene, read_reconstruction, read_scene, reconstruction_to_json,
+    scene_to_json, write_reconstruction, write_scene,
 };
+pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
@@ -102,17 +105,8 @@ pub struct Expect {
     pub reason: Option<String>,
 }
 
-/// A reconstruction's verdict on a scene (issue #4: reconstruction files add `status`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ReconStatus {
-    /// The recognizer produced blocks.
-    Ok,
-    /// The recognizer declined the scene (with a `reason`).
-    Unsupported,
-}
-
-/// A scene: blocks on the floor plus optional expectation and reconstruction metadata.
+/// A scene: blocks on the floor plus an optional expectation and provenance. A recognizer's
+/// answer is a [`Reconstruction`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     /// A short name (`"two_layer"`).
@@ -121,12 +115,6 @@ pub struct Scene {
     pub blocks: Vec<Block>,
     /// Whether the thesis's method covers the scene.
     pub expect: Option<Expect>,
-    /// Set on reconstruction files only.
-    pub status: Option<ReconStatus>,
-    /// Why a reconstruction is `unsupported`, or other remarks.
-    pub reason: Option<String>,
-    /// A reconstruction's CSG tree (Chapter IV, Figure 4.6), kept as written.
-    pub csg: Option<serde_json::Value>,
     /// Free-form provenance (generator family, seed, settling report), kept as written.
     pub meta: Option<serde_json::Map<String, serde_json::Value>>,
 }
@@ -138,9 +126,6 @@ impl Scene {
             name: name.into(),
             blocks,
             expect: None,
-            status: None,
-            reason: None,
-            csg: None,
             meta: None,
         }
     }

@@ -36,10 +36,10 @@ impl ConvexPolytope {
             .iter()
             .map(|&(a, b, _, _)| [a, b])
             .collect();
-        let planes = (0..block.block_type.faces.len())
+        let planes = (0..block.block_type.faces().len())
             .map(|f| {
                 let n = block.world_face_normal(f);
-                let p0 = vertices[block.block_type.faces[f][0] as usize];
+                let p0 = vertices[block.block_type.faces()[f][0] as usize];
                 (n, n.dot(p0))
             })
             .collect();

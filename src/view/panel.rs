@@ -48,7 +48,7 @@ pub fn wire_model(scene: &Scene, role: Role) -> WireModel {
         m.vertices_mm.extend(block.world_vertices());
         let t = block.block_type;
         m.faces.extend(
-            t.faces
+            t.faces()
                 .iter()
                 .map(|f| f.iter().map(|&i| base + i as usize).collect()),
         );

@@ -119,12 +119,12 @@ fn drop_junction_blobs(lines: &[FittedLine], opts: &VertexOptions) -> Vec<Fitted
         let others: Vec<&FittedLine> = lines
             .iter()
             .enumerate()
-            .filter(|&(j, l)| j != i && l.orientation != s.orientation && near(l))
+            .filter(|&(j, l)| j != i && l.axis != s.axis && near(l))
             .map(|(_, l)| l)
             .collect();
         others.iter().enumerate().any(|(a, la)| {
             others[a + 1..].iter().any(|lb| {
-                la.orientation != lb.orientation
+                la.axis != lb.axis
                     && intersect(la, lb).is_some_and(|p| p.distance(mid) <= opts.join_radius_px)
             })
         })
@@ -288,12 +288,13 @@ fn compact(points: Vec<DVec2>, lines: Vec<[usize; 2]>) -> LineDrawing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drawing::Junction;
+    use crate::drawing::{EdgeAxis, Junction};
 
     fn seg(k: usize, a: DVec2, b: DVec2) -> FittedLine {
+        let k = EdgeAxis::BLOCK_AXES[k];
         let d = (b - a).normalize();
         FittedLine {
-            orientation: k,
+            axis: k,
             centroid_px: (a + b) / 2.0,
             direction: d,
             from_px: a,
@@ -340,6 +341,9 @@ mod tests {
             .position(|p| p.distance(foot) < 1e-6)
             .expect("T found");
         assert_eq!(d.junctions[t], Junction::T);
-        assert_eq!(d.junctions[t].thesis_class(), "T");
+        assert_eq!(
+            d.junctions[t].thesis_class(),
+            crate::drawing::ThesisClass::T
+        );
     }
 }

@@ -1,10 +1,10 @@
 //! `blockworld export SCENE.json -o OUT.glb|OUT.gltf`: the scene as a glTF 2.0 model (thesis
 //! Ch. VI "Display the Final Sample": look at the block sample from any viewpoint).
 
-use crate::export::{scene_to_glb, scene_to_gltf_json};
-use crate::io::write_atomic;
-use crate::scene::read_scene;
 use anyhow::{bail, Context};
+use blockworld::export::{scene_to_glb, scene_to_gltf_json};
+use blockworld::io::write_atomic;
+use blockworld::scene::read_scene;
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld export`.
@@ -95,8 +95,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// `--format thesis`: the Appendix B data files, vertices first so a reader that finds the
 /// connections file finds its vertices too.
 fn run_thesis(args: &Args) -> anyhow::Result<()> {
-    let scene = super::view::read_model(&args.scene, crate::export::Truncation::Strict)?;
-    let files = crate::export::scene_to_thesis_files(&scene).with_context(|| {
+    let scene = super::view::read_model(&args.scene, blockworld::export::Truncation::Strict)?;
+    let files = blockworld::export::scene_to_thesis_files(&scene).with_context(|| {
         format!(
             "exporting {} as Appendix B data files",
             args.scene.display()
@@ -115,7 +115,7 @@ fn run_thesis(args: &Args) -> anyhow::Result<()> {
         "{}: {} blocks -> {prefix}_vertices.txt, {prefix}_connections.txt (block units of {} mm)",
         args.scene.display(),
         scene.blocks.len(),
-        crate::export::THESIS_UNIT_MM
+        blockworld::export::THESIS_UNIT_MM
     );
     Ok(())
 }

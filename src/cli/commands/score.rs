@@ -1,10 +1,10 @@
 //! `blockworld score TRUTH.json RECON.json [--json]`: the volume IoU, block matching, layer
 //! count and verdict of a reconstruction against its truth (issue #4).
 
-use crate::export::Truncation;
-use crate::scene::read_scene;
-use crate::score::{score_reconstruction, Score, ScoreOptions};
 use anyhow::Context;
+use blockworld::export::Truncation;
+use blockworld::scene::{read_reconstruction, read_scene, Reconstruction};
+use blockworld::score::{score_reconstruction, Score, ScoreOptions};
 use std::path::PathBuf;
 
 /// Options of `blockworld score`.
@@ -28,8 +28,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => read_scene(&args.truth)
             .with_context(|| format!("reading the truth scene {}", args.truth.display()))?,
     };
-    let recon = super::view::read_model(&args.recon, Truncation::Strict)
-        .with_context(|| format!("reading the reconstruction {}", args.recon.display()))?;
+    let recon = match super::view::thesis_pair(&args.recon) {
+        Some(_) => {
+            let s = super::view::read_model(&args.recon, Truncation::Strict)?;
+            Reconstruction::ok(s.name, s.blocks)
+        }
+        None => read_reconstruction(&args.recon)
+            .with_context(|| format!("reading the reconstruction {}", args.recon.display()))?,
+    };
     let score = score_reconstruction(&truth, &recon).with_context(|| {
         format!(
             "scoring {} against {}",

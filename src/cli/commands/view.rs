@@ -4,16 +4,16 @@
 //! f `--from`, a `--at`, u `--up`, z `--view-angle`, m `--move-from`, d `--world`; and, as
 //! Chapter VII recommends, `--viewports`, `--hidden-lines remove`, `--shade` and `--overlay`.
 
-use crate::export::{parse_thesis_files, thesis_model_to_scene, Truncation};
-use crate::geom::DVec3;
-use crate::io::write_atomic;
-use crate::output::encode_png_rgb8;
-use crate::scene::{read_reconstruction, Scene};
-use crate::view::{
+use anyhow::{bail, Context};
+use blockworld::export::{parse_thesis_files, thesis_model_to_scene, Truncation};
+use blockworld::geom::DVec3;
+use blockworld::io::write_atomic;
+use blockworld::output::encode_png_rgb8;
+use blockworld::scene::{read_reconstruction, Scene};
+use blockworld::view::{
     draw_sheet, rasterize_sheet, sheet_to_svg, wire_model, HiddenLines, Role, SheetOptions,
     ViewParams, WireModel,
 };
-use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld view`.
@@ -155,6 +155,7 @@ pub fn thesis_pair(path: &Path) -> Option<(PathBuf, PathBuf)> {
 pub fn read_model(path: &Path, truncation: Truncation) -> anyhow::Result<Scene> {
     let Some((vp, cp)) = thesis_pair(path) else {
         return read_reconstruction(path)
+            .map(|r| r.to_scene())
             .with_context(|| format!("reading the model {}", path.display()));
     };
     let read = |p: &Path| {

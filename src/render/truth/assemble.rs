@@ -4,8 +4,9 @@
 //! Figure 5.1).
 
 use super::classify::{join_pieces, reclassify, Piece};
-use super::geometry::{Projector, SceneGeometry};
+use super::geometry::SceneGeometry;
 use super::TruthTolerances;
+use crate::camera::Projector;
 use crate::drawing::{EdgeRef, LineDrawing};
 use crate::geom::DVec2;
 

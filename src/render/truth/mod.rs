@@ -41,7 +41,7 @@ mod classify;
 mod geometry;
 mod visibility;
 
-use super::Camera;
+use crate::camera::Camera;
 use crate::drawing::LineDrawing;
 use crate::geom::CONTACT_TOL_MM;
 use crate::scene::Scene;
@@ -99,7 +99,7 @@ pub fn visible_line_drawing_with_tolerances(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::camera::{CameraOptions, CornerView};
     use crate::scene::Block;
     use glam::DVec3;
 

@@ -4,8 +4,8 @@
 
 use crate::cli::commands::generate::{checked_options, renderer_for, with_progress};
 use crate::cli::view_args::ViewArgs;
-use crate::dataset::{generate_dataset, Shard};
 use anyhow::Context;
+use blockworld::dataset::{generate_dataset, Shard};
 use std::time::Instant;
 
 /// Options of `blockworld bench generate`.
