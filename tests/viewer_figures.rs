@@ -173,3 +173,35 @@ fn the_plain_view_is_the_same_bytes_twice() {
     let b = rasterize_sheet(&draw(&FIGURES[4]));
     assert_eq!(a.as_raw(), b.as_raw());
 }
+
+#[test]
+fn the_thesis_viewing_system_is_the_cameras_look_at_with_z_turned_into_the_screen() {
+    // The viewer builds eq. 2.2-2.5 itself, in the thesis's left-handed system; the renderer's
+    // camera uses glam's right-handed look-at. They must be the same view: x and y agree, z
+    // flips sign.
+    let cases = [
+        (
+            DVec3::new(82.5, 60.0, 75.0),
+            DVec3::new(22.5, 15.0, 15.0),
+            DVec3::Y,
+        ),
+        (
+            DVec3::new(-40.0, 10.0, 5.0),
+            DVec3::new(3.0, 4.0, -2.0),
+            DVec3::new(2.0, 1.0, 3.0),
+        ),
+        (DVec3::new(0.0, 0.0, -50.0), DVec3::ZERO, DVec3::X),
+    ];
+    for (f, a, u) in cases {
+        let thesis = blockworld::view::ViewingTransform::new(f, a, u, 60.0, (1.0, 500.0)).unwrap();
+        let camera = blockworld::camera::look_at(f, a, u);
+        for p in [DVec3::ZERO, DVec3::new(10.0, -3.0, 7.0), a + u] {
+            let e = thesis.eye(p);
+            let c = camera.transform_point3(p);
+            assert!(
+                (e - DVec3::new(c.x, c.y, -c.z)).length() < 1e-9,
+                "{f} {a} {u}: {e} vs {c}"
+            );
+        }
+    }
+}
