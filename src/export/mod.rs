@@ -12,7 +12,10 @@
 //! functions return bytes and `cli` writes them.
 
 mod mesh;
+mod overlay;
 mod thesis;
+
+pub use overlay::{reconstruction_with_truth_to_glb, reconstruction_with_truth_to_gltf};
 
 pub use thesis::{
     parse_thesis_files, scene_to_thesis_files, thesis_model_to_scene, thesis_origin_mm,
@@ -122,7 +125,7 @@ pub fn scene_to_gltf(scene: &Scene) -> Result<GltfFiles, ExportError> {
         let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
             Some((_, m)) => *m,
             None => {
-                let m = doc.push_mesh(block.block_type)?;
+                let m = doc.push_mesh(block.block_type, None)?;
                 mesh_of_type.push((id, m));
                 m
             }
@@ -234,10 +237,12 @@ impl DocumentBuilder {
         })
     }
 
-    /// Adds the flat-shaded mesh of one block type, named by its catalog id.
+    /// Adds the flat-shaded mesh of one block type, named by its catalog id, drawn with
+    /// `material` (the glTF default material when `None`).
     fn push_mesh(
         &mut self,
         block_type: &BlockType,
+        material: Option<json::Index<json::Material>>,
     ) -> Result<json::Index<json::Mesh>, ExportError> {
         use json::accessor::{ComponentType, Type};
         use json::buffer::Target;
@@ -278,7 +283,7 @@ impl DocumentBuilder {
                 extensions: Default::default(),
                 extras: Default::default(),
                 indices: Some(indices),
-                material: None,
+                material,
                 mode: Valid(json::mesh::Mode::Triangles),
                 targets: None,
             }],
