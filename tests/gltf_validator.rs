@@ -10,6 +10,7 @@ mod common;
 use blockworld::export::{reconstruction_with_truth_to_gltf, scene_to_glb};
 use blockworld::geom::DVec3;
 use blockworld::scene::{read_scene, CsgNode, Reconstruction};
+use sha2::Digest;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -115,4 +116,47 @@ fn the_validator_catches_a_broken_file() {
         return;
     };
     assert!(reports[0].0 > 0, "expected an error: {}", reports[0].2);
+}
+
+#[test]
+fn generate_gltf_writes_a_valid_glb_per_scene_listed_in_the_manifest() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "generate", "--count", "4", "--seed", "7", "--views", "", "-o",
+        ];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let o = run(&["--gltf"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+    let mut files = Vec::new();
+    for line in manifest.lines() {
+        let e: serde_json::Value = serde_json::from_str(line).unwrap();
+        let glb = out.join(e["id"].as_str().unwrap()).join("scene.glb");
+        let bytes = std::fs::read(&glb).unwrap();
+        let sha = e["files"]["scene.glb"]
+            .as_str()
+            .expect("scene.glb in the manifest");
+        assert_eq!(sha, hex::encode(sha2::Sha256::digest(&bytes)));
+        assert!(gltf::Gltf::from_slice(&bytes).is_ok());
+        files.push(glb);
+    }
+    assert_eq!(files.len(), 4);
+    // Resuming without --gltf is other options: refused, naming the difference.
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("scene_files"));
+    let Some(reports) = validate(&files) else {
+        return;
+    };
+    for (errors, warnings, line) in &reports {
+        assert_eq!((*errors, *warnings), (0, 0), "{line}");
+    }
 }
