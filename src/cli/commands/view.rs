@@ -187,6 +187,8 @@ fn world_table(models: &[WireModel]) -> String {
             m.vertices_mm.len()
         ));
         for (k, v) in m.vertices_mm.iter().enumerate() {
+            // Rounded to the printed 0.1 µm first, so rounding noise never prints as -0.0000.
+            let v = (*v * 1e4).round() / 1e4 + DVec3::ZERO;
             t.push_str(&format!(
                 "{:>4} {:>10.4} {:>10.4} {:>10.4}\n",
                 k + 1,
