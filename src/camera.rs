@@ -11,7 +11,7 @@
 //! Pixel aspect is the thesis's "vertical to horizontal pixel size ratio" (1.173913 for its
 //! COHU CCD): a pixel covers `pixel_aspect` times more world height than width.
 
-use crate::geom::{DMat4, DVec2, DVec3, ISOMETRIC_ELEVATION_DEG};
+use crate::geom::{bounds3, DMat4, DVec2, DVec3, ISOMETRIC_ELEVATION_DEG};
 use serde::{Deserialize, Serialize};
 
 mod file;
@@ -89,7 +89,7 @@ pub enum Projection {
 }
 
 /// How to take a view: picture size, camera angles, projection, framing.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CameraOptions {
     /// Picture width and height in pixels; default 512 x 480, the thesis's digitizer (Ch. VI).
     pub size_px: [u32; 2],
@@ -147,14 +147,9 @@ impl Camera {
     /// Frames `points_mm` (usually all block vertices) in `view`: the picture is filled with a
     /// margin of `opts.margin` on the tighter axis, centred.
     pub fn frame(points_mm: &[DVec3], view: CornerView, opts: &CameraOptions) -> Camera {
-        let (lo, hi) = points_mm.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (lo, hi) = if lo.is_finite() {
-            (lo, hi)
-        } else {
-            (DVec3::splat(-10.0), DVec3::splat(10.0))
+        let (lo, hi) = match bounds3(points_mm.iter().copied()) {
+            Some((lo, hi)) if lo.is_finite() => (lo, hi),
+            _ => (DVec3::splat(-10.0), DVec3::splat(10.0)),
         };
         let target = (lo + hi) / 2.0;
         let radius = ((hi - lo).length() / 2.0).max(1.0);
@@ -327,13 +322,8 @@ fn perspective(half_fov_y: f64, aspect: f64, near: f64, far: f64) -> DMat4 {
 }
 
 fn bounds_in(v: &DMat4, points: &[DVec3]) -> (DVec3, DVec3) {
-    points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| {
-            let c = v.transform_point3(*p);
-            (lo.min(c), hi.max(c))
-        },
-    )
+    bounds3(points.iter().map(|p| v.transform_point3(*p)))
+        .unwrap_or((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)))
 }
 
 #[cfg(test)]

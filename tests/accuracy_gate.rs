@@ -1,4 +1,4 @@
-//! The accuracy gate CI enforces (issue #4): the committed suite (`scenes/bench/`) scored with
+//! The accuracy gate CI enforces (README "Scoring and the accuracy suite"): the committed suite (`scenes/bench/`) scored with
 //! the committed reference reconstructions (`golden/recon_reference/`) must not regress
 //! against `golden/accuracy.json`: no scene's IoU more than 0.01 below golden, no supported
 //! scene that stops being recognized, no known failure case that stops being flagged.
@@ -87,7 +87,7 @@ fn suite_covers_the_families_and_the_failure_cases() {
         .collect();
     families.sort();
     families.dedup();
-    // The generator's families (issue #3), the Chapter VII failure cases included.
+    // The generator's families (README "Settling and datasets"), the Chapter VII failure cases included.
     for f in [
         "single",
         "row",

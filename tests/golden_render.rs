@@ -1,4 +1,4 @@
-//! Whole-renderer tests (issue #2): golden images of every example scene, gray levels of the
+//! Whole-renderer tests (README "Rendering"): golden images of every example scene, gray levels of the
 //! faces, the seam between touching blocks, depth and ids against an exact ray cast, noise,
 //! MSAA, perspective, odd picture widths, sharing one renderer across threads.
 //!
@@ -17,7 +17,7 @@ use common::{compare_golden, renderer, Tolerance};
 use rayon::prelude::*;
 
 /// Golden tolerance: exact. lavapipe renders bit-identically from run to run, across debug and
-/// release, and llvmpipe-GL matches it (`shared/notes/wgpu-lavapipe.md`); what bounds it is the
+/// release, and llvmpipe-GL matches it (README "Dependencies"); what bounds it is the
 /// Mesa/LLVM version of the machine that blessed the goldens (golden/README.md). Loosen only
 /// with a written reason, e.g. a Mesa update that moves rasterization by a sub-pixel step.
 const GOLDEN_TOLERANCE: Tolerance = Tolerance {

@@ -1,4 +1,4 @@
-//! Issue #2: every ground-truth visible line lies on an intensity edge of the rendered image, and
+//! Every ground-truth visible line lies on an intensity edge of the rendered image, and
 //! no rendered intensity edge lacks a line. The drawing comes from geometry (`render::truth`),
 //! the picture from wgpu on lavapipe, so this ties the two together, seams included.
 

@@ -1,5 +1,5 @@
-//! Whole-scene tests of the exact visible line drawing (issue #2, `render::truth`): the small
-//! cases of `shared/notes/ground-truth.md` (NE view, orthographic, exact isometric elevation),
+//! Whole-scene tests of the exact visible line drawing (README "Rendering", `render::truth`): the small
+//! cases of README "The exact line drawing" (NE view, orthographic, exact isometric elevation),
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
 
@@ -96,7 +96,7 @@ fn b15_on_b30() -> Scene {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Small cases of shared/notes/ground-truth.md
+// Small cases of README "The exact line drawing"
 // ---------------------------------------------------------------------------------------------
 
 #[test]

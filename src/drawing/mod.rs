@@ -191,7 +191,7 @@ mod tests {
     fn cube_codes_follow_chapter_iv_bit_order() {
         let d = cube();
         let codes: Vec<u8> = d.codes.iter().map(|c| c.0).collect();
-        // The set of shared/notes/ground-truth.md: top 40, middle fork 22.
+        // The set of README "The exact line drawing": top 40, middle fork 22.
         assert_eq!(codes, vec![40, 14, 9, 21, 33, 50, 22]);
         assert_eq!(d.junctions[6], Junction::Fork);
         assert_eq!(d.junctions[0], Junction::L);

@@ -14,7 +14,7 @@
 //! the vertex of least x (the reference vertex) and y = 0 at the bottom layer (Chapter VI); z
 //! is kept as it is. Reading back gives world mm in that frame.
 
-use crate::geom::DVec3;
+use crate::geom::{heading_deg, DVec3};
 use crate::scene::{Block, Orientation, Scene, CATALOG};
 use glam::{DMat3, DQuat};
 
@@ -486,11 +486,11 @@ fn cuboid_from_corner(corner: DVec3, edges: &[DVec3]) -> Result<Block, String> {
     let uy = ey.normalize() * ey.y.signum();
     let uz = ex.cross(uy).normalize();
     let ux = uy.cross(uz);
-    let rot = DMat3::from_cols(ux, uy, uz);
+    let q = DQuat::from_mat3(&DMat3::from_cols(ux, uy, uz));
     let orientation = if (uy - DVec3::Y).length() < 1e-9 {
-        Orientation::YawDeg((-ux.z).atan2(ux.x).to_degrees() + 0.0)
+        Orientation::YawDeg(heading_deg(q) + 0.0)
     } else {
-        Orientation::Quaternion(DQuat::from_mat3(&rot))
+        Orientation::Quaternion(q)
     };
     Ok(Block {
         block_type,

@@ -4,7 +4,7 @@
 //! Renderer, ground truth, physics and scoring read shapes only through [`BlockType`], so a new
 //! block (the trapezoidal wedge of Chapter VII, Figure 7.1) is one more row in [`CATALOG`].
 
-use crate::geom::DVec3;
+use crate::geom::{bounds3, DVec3};
 
 /// Vertex indices of the six faces of a cuboid whose vertices follow [`cuboid_vertices`]'s order,
 /// each face counter-clockwise seen from outside.
@@ -67,7 +67,7 @@ pub struct BlockType {
     pub shape: Shape,
 }
 
-/// The catalog (issue #2): ids and sizes as x length, y height, z width in mm.
+/// The catalog (README "Rendering"): ids and sizes as x length, y height, z width in mm.
 ///
 /// | id | name | x | y | z |
 /// |---|---|---|---|---|
@@ -137,10 +137,7 @@ impl BlockType {
 
     /// Local axis-aligned bounds (min, max) in mm.
     pub fn local_bounds_mm(&self) -> (DVec3, DVec3) {
-        self.vertices().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), v| (lo.min(v), hi.max(v)),
-        )
+        bounds3(self.vertices()).unwrap_or((DVec3::ZERO, DVec3::ZERO))
     }
 
     /// Half extents in mm when the shape is an axis-aligned cuboid filling its bounding box

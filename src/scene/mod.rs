@@ -2,7 +2,7 @@
 //! scene-file format that every later stage reads, and its validation.
 //!
 //! A [`Scene`] is plain data. `scene::file` reads and writes it as JSON (the contract of
-//! issue #2, documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
+//! README "Rendering", documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
 //! blocks that overlap or sink below the floor, NaN poses.
 
 mod catalog;
@@ -19,7 +19,7 @@ pub use file::{
 };
 pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
-use crate::geom::{DVec3, CONTACT_TOL_MM};
+use crate::geom::{bounds3, DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
@@ -92,6 +92,36 @@ impl Block {
     pub fn volume_mm3(&self) -> f64 {
         self.block_type.volume_mm3()
     }
+
+    /// Height of its lowest vertex above the floor, mm: where it rests.
+    pub fn bottom_mm(&self) -> f64 {
+        self.world_vertices()
+            .iter()
+            .map(|v| v.y)
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The layers of a stack (Chapter V: "classify the number of levels"): the distinct resting
+/// heights of block bottoms, ascending. Sorted bottoms join the current layer while within
+/// `tol_mm` of its lowest bottom; a higher one starts the next layer. The one home of layer
+/// counting: settling, scoring and the recognizer use it.
+pub fn layer_bottoms_mm(blocks: &[Block], tol_mm: f64) -> Vec<f64> {
+    let mut sorted: Vec<f64> = blocks.iter().map(Block::bottom_mm).collect();
+    sorted.sort_by(f64::total_cmp);
+    let mut layers: Vec<f64> = Vec::new();
+    for b in sorted {
+        if layers.last().is_none_or(|&d| b - d > tol_mm) {
+            layers.push(b);
+        }
+    }
+    layers
+}
+
+/// The layer of a block whose bottom is `bottom_mm`: how many layers of `layers` (from
+/// [`layer_bottoms_mm`]) lie more than `tol_mm` below it (0 on the floor).
+pub fn layer_index(layers: &[f64], bottom_mm: f64, tol_mm: f64) -> usize {
+    layers.iter().filter(|&&d| bottom_mm - d > tol_mm).count()
 }
 
 /// What the thesis's method is expected to do with a scene (Chapter VII constraints).
@@ -137,13 +167,7 @@ impl Scene {
 
     /// World-space axis-aligned bounds (min, max) of all blocks, in mm; `None` when empty.
     pub fn bounds_mm(&self) -> Option<(DVec3, DVec3)> {
-        self.blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .fold(None, |acc, v| match acc {
-                None => Some((v, v)),
-                Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
-            })
+        bounds3(self.blocks.iter().flat_map(|b| b.world_vertices()))
     }
 
     /// Checks that every block is finite, rests on or above the floor and overlaps no other

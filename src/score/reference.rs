@@ -84,10 +84,9 @@ pub fn make_reference_reconstruction(id: &str, truth: &Scene, partial: bool) -> 
     recon
 }
 
-/// The block's heading: the angle of its local +x axis about +y, degrees (tilt ignored).
+/// The block's heading, degrees (tilt ignored).
 fn yaw_deg(b: &Block) -> f64 {
-    let x = b.rotation() * DVec3::X;
-    (-x.z).atan2(x.x).to_degrees()
+    crate::geom::heading_deg(b.rotation())
 }
 
 fn round6(v: f64) -> f64 {

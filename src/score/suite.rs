@@ -1,5 +1,5 @@
 //! The accuracy suite: per-scene results, per-family summaries, and the golden gate that CI
-//! enforces (issue #4; style.md §4 "expected failures": a scene marked unsupported that starts
+//! enforces (README "Scoring and the accuracy suite"; a scene marked unsupported that starts
 //! passing is itself a failure until someone changes its mark on purpose).
 
 use super::verdict::{score_reconstruction_with_options, ScoreOptions, Verdict};
@@ -171,7 +171,7 @@ pub struct GoldenScene {
 pub struct Golden {
     /// How the file is re-blessed (for a reader of the file).
     pub bless: String,
-    /// An IoU may fall at most this far below its golden value. 0.01 (issue #4).
+    /// An IoU may fall at most this far below its golden value. 0.01 (README "Scoring and the accuracy suite").
     pub iou_drop_tolerance: f64,
     /// The scenes, sorted by id.
     pub scenes: Vec<GoldenScene>,

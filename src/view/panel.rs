@@ -6,7 +6,7 @@ use super::clip::{clip_line, point_at, Clipped};
 use super::hidden::{clip_polygon_to_hither, occluder, visible_parts, Occluder};
 use super::transform::{rotation_y, translation, ViewingTransform};
 use super::ViewError;
-use crate::geom::{DVec2, DVec3};
+use crate::geom::{bounds3, DVec2, DVec3};
 use crate::scene::Scene;
 
 /// What a model is, which sets its colour: the one model of a plain view, or the truth and the
@@ -77,11 +77,12 @@ impl ViewParams {
     /// (1, 1, 1)), At at the centre of their bounds, Up = +y, far enough that the bounding
     /// sphere fits the view angle.
     pub fn framing(scenes: &[&Scene], view_angle_deg: f64) -> Result<ViewParams, ViewError> {
-        let (lo, hi) = scenes
-            .iter()
-            .filter_map(|s| s.bounds_mm())
-            .reduce(|(lo, hi), (l, h)| (lo.min(l), hi.max(h)))
-            .ok_or(ViewError::NothingToView)?;
+        let (lo, hi) = bounds3(
+            scenes
+                .iter()
+                .flat_map(|s| s.blocks.iter().flat_map(|b| b.world_vertices())),
+        )
+        .ok_or(ViewError::NothingToView)?;
         check_angle(view_angle_deg)?;
         let at_mm = (lo + hi) / 2.0;
         let radius = ((hi - lo) / 2.0).length().max(1.0);

@@ -1,4 +1,4 @@
-//! The vision front end (issue #5): the thesis's image stage, from a grayscale corner view to a
+//! The vision front end (README "Vision front end"): the thesis's image stage, from a grayscale corner view to a
 //! line drawing with six-bit codes.
 //!
 //! 1. [`sobel_magnitude`], [`smooth_3x3`], [`threshold`]: the Sobel operator of Chapter II

@@ -12,7 +12,7 @@
 
 use super::lines::FittedLine;
 use crate::drawing::LineDrawing;
-use crate::geom::DVec2;
+use crate::geom::{DVec2, UnionFind};
 
 /// Options of the vertex finder, in picture pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,25 +43,6 @@ fn intersect(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
     }
     let t = (b.centroid_px - a.centroid_px).perp_dot(b.direction) / den;
     Some(a.centroid_px + a.direction * t)
-}
-
-/// Union-find over junction candidates.
-struct Sets(Vec<usize>);
-
-impl Sets {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
-        }
-        i
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            self.0[a.max(b)] = a.min(b);
-        }
-    }
 }
 
 /// The point nearest in least squares to all `lines` (by index into `all`); the mean of
@@ -164,7 +145,7 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
         }
     }
     // 2. Group: candidates sharing a segment end, or close together, are one vertex.
-    let mut sets = Sets((0..cands.len()).collect());
+    let mut sets = UnionFind::new(cands.len());
     let mut by_end: Vec<Option<usize>> = vec![None; lines.len() * 2];
     for (ci, c) in cands.iter().enumerate() {
         let key = c.line * 2 + c.end;

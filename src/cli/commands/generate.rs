@@ -1,5 +1,5 @@
 //! `blockworld generate --count N --seed S -o DATASET [--family F ...] [--jobs J]
-//! [--shard I/N | --shards N] [view options]` (issue #3 "Generation").
+//! [--shard I/N | --shards N] [view options]` (README "Settling and datasets").
 //!
 //! `--seed` is the dataset seed (shared with the view options, where it seeds sensor noise:
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from

@@ -1,5 +1,5 @@
 //! `blockworld render SCENE.json -o DIR`: the four corner views of a scene and their ground
-//! truth (issue #2), written with [`blockworld::output::write_rendered_views`].
+//! truth (README "Rendering"), written with [`blockworld::output::write_rendered_views`].
 
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;

@@ -1,5 +1,5 @@
 //! `blockworld score TRUTH.json RECON.json [--json]`: the volume IoU, block matching, layer
-//! count and verdict of a reconstruction against its truth (issue #4).
+//! count and verdict of a reconstruction against its truth (README "Scoring and the accuracy suite").
 
 use anyhow::Context;
 use blockworld::export::Truncation;

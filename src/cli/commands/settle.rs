@@ -1,4 +1,4 @@
-//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (issue #3 "Settling").
+//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (README "Settling and datasets").
 
 use anyhow::{bail, Context};
 use blockworld::physics::{settle, SettleParams};

@@ -3,7 +3,7 @@
 //! eqs. 2.2-2.8, in the camera's matrices).
 
 use crate::camera::{Camera, Projector};
-use crate::geom::{DVec2, DVec3};
+use crate::geom::{bounds2, bounds3, DVec2, DVec3};
 use crate::scene::{BlockType, Scene};
 
 /// One block face: plane, picture polygon (counter-clockwise), facing.
@@ -137,7 +137,7 @@ impl SceneGeometry {
                 if signed_area(&poly) < 0.0 {
                     poly.reverse();
                 }
-                let (lo, hi) = bounds2(&poly);
+                let (lo, hi) = poly_bounds(&poly);
                 faces.push(Face {
                     block: bi,
                     normal,
@@ -172,10 +172,7 @@ impl SceneGeometry {
                     wb,
                 });
             }
-            let (lo, hi) = verts.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-            );
+            let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();
             blocks.push(BlockGeometry {
                 lo,
                 hi,
@@ -229,9 +226,7 @@ fn signed_area(poly: &[DVec2]) -> f64 {
         / 2.0
 }
 
-fn bounds2(poly: &[DVec2]) -> (DVec2, DVec2) {
-    poly.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
+fn poly_bounds(poly: &[DVec2]) -> (DVec2, DVec2) {
+    bounds2(poly.iter().copied())
+        .unwrap_or((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)))
 }

@@ -1,5 +1,5 @@
 //! `blockworld bench accuracy`: scores reconstructions of the accuracy suite (`scenes/bench/`)
-//! and prints a per-family table (issue #4). Until a recognizer exists, `--recognizer DIR`
+//! and prints a per-family table (README "Scoring and the accuracy suite"). Until a recognizer exists, `--recognizer DIR`
 //! names a directory of reconstruction files `<scene-id>.json`; a missing file counts as
 //! `failed`. `--make-reference DIR` writes the constructed reference set
 //! (`score::make_reference_reconstructions`) that `tests/accuracy_gate.rs` scores.

@@ -1,5 +1,5 @@
 //! `blockworld bench render`: ms per view for scenes of 1, 10 and 50 blocks at 512 x 480
-//! (issue #2 target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
+//! (README "Rendering" target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
 //! Columns: render + readback (pixels only), the same plus the exact line drawing
 //! (`Renderer::render`), and render + readback + PNG encoding of the three images.
 

@@ -1,4 +1,4 @@
-//! `blockworld bench vision`: the vision front end (issue #5) measured against exact ground
+//! `blockworld bench vision`: the vision front end (README "Vision front end") measured against exact ground
 //! truth. Renders the accuracy-suite scenes (`scenes/bench/*.json`, else `scenes/*.json`) in the
 //! four corner views with the real renderer (or reads already rendered views with `--from`),
 //! runs Sobel + smoothing + threshold, lines and vertices on one core, matches the vertices to
@@ -37,7 +37,7 @@ pub struct Args {
     #[arg(long, conflicts_with = "suite")]
     pub from: Option<PathBuf>,
     /// Render with a perspective camera of this vertical field of view, degrees (default:
-    /// orthographic, the issue's target setting).
+    /// orthographic, the target setting of README "Vision front end").
     #[arg(long)]
     pub perspective: Option<f64>,
     /// Matching distance, px.
