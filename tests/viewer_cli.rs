@@ -179,6 +179,24 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
     }
     let o = blockworld(&["view", s(&sample), "-o", s(&tmp.path().join("x.jpg"))]);
     assert_eq!(o.status.code(), Some(2));
+    let svg = tmp.path().join("x.svg");
+    let o = blockworld(&["view", s(&sample), "-o", s(&svg), "--shade"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains(".png") && !svg.exists());
+    // A declined reconstruction has no blocks to look at.
+    let declined = tmp.path().join("declined.json");
+    std::fs::write(
+        &declined,
+        r#"{"name": "d", "blocks": [], "status": "unsupported", "reason": "overhang"}"#,
+    )
+    .unwrap();
+    let o = blockworld(&["view", s(&declined), "-o", s(&png)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("no blocks"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let frag = common::root().join("tests/fixtures/appendix_b");
     let o = blockworld(&["view", s(&frag), "-o", s(&png)]);
     assert_eq!(o.status.code(), Some(2));
