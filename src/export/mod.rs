@@ -118,20 +118,7 @@ pub fn scene_to_gltf(scene: &Scene) -> Result<GltfFiles, ExportError> {
         });
     }
     let mut doc = DocumentBuilder::new(scene)?;
-    let mut mesh_of_type: Vec<(&str, json::Index<json::Mesh>)> = Vec::new();
-    let mut nodes = Vec::with_capacity(scene.blocks.len());
-    for (index, block) in scene.blocks.iter().enumerate() {
-        let id = block.block_type.id;
-        let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
-            Some((_, m)) => *m,
-            None => {
-                let m = doc.push_mesh(block.block_type, None)?;
-                mesh_of_type.push((id, m));
-                m
-            }
-        };
-        nodes.push(doc.push_node(scene, index, mesh)?);
-    }
+    let nodes = doc.push_block_nodes(scene, None)?;
     Ok(doc.finish(scene, nodes))
 }
 
@@ -289,6 +276,30 @@ impl DocumentBuilder {
             }],
             weights: None,
         }))
+    }
+
+    /// Adds a node per block of `scene` and a mesh per block type it uses (in order of first
+    /// use, drawn with `material`); returns the nodes in block order.
+    fn push_block_nodes(
+        &mut self,
+        scene: &Scene,
+        material: Option<json::Index<json::Material>>,
+    ) -> Result<Vec<json::Index<json::Node>>, ExportError> {
+        let mut mesh_of_type: Vec<(&str, json::Index<json::Mesh>)> = Vec::new();
+        let mut nodes = Vec::with_capacity(scene.blocks.len());
+        for (index, block) in scene.blocks.iter().enumerate() {
+            let id = block.block_type.id;
+            let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
+                Some((_, m)) => *m,
+                None => {
+                    let m = self.push_mesh(block.block_type, material)?;
+                    mesh_of_type.push((id, m));
+                    m
+                }
+            };
+            nodes.push(self.push_node(scene, index, mesh)?);
+        }
+        Ok(nodes)
     }
 
     /// Adds the node of block `index`: its mesh at its pose (centre in metres, unit quaternion).

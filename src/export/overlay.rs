@@ -91,24 +91,15 @@ fn push_group(
     extras: json::extras::Extras,
 ) -> Result<json::Index<json::Node>, ExportError> {
     let material = doc.root.push(material(name, colour));
-    let mut mesh_of_type: Vec<(&str, json::Index<json::Mesh>)> = Vec::new();
-    let mut children = Vec::with_capacity(scene.blocks.len());
-    for (index, block) in scene.blocks.iter().enumerate() {
+    let children = doc.push_block_nodes(scene, Some(material))?;
+    for (index, (block, &node)) in scene.blocks.iter().zip(&children).enumerate() {
         let id = block.block_type.id;
-        let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
-            Some((_, m)) => *m,
-            None => {
-                let m = doc.push_mesh(block.block_type, Some(material))?;
-                doc.root.meshes[m.value()].name = Some(format!("{name}_{id}"));
-                mesh_of_type.push((id, m));
-                m
-            }
-        };
-        let node = doc.push_node(scene, index, mesh)?;
         let n = &mut doc.root.nodes[node.value()];
         n.name = Some(format!("{name}_block_{index}_{id}"));
         n.extras = extras_json(&serde_json::json!({ "block_type": id, "block": index }));
-        children.push(node);
+        if let Some(mesh) = n.mesh {
+            doc.root.meshes[mesh.value()].name = Some(format!("{name}_{id}"));
+        }
     }
     Ok(doc.root.push(json::Node {
         name: Some(name.to_string()),
