@@ -15,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+pub mod csg;
 pub mod dataset;
 pub mod drawing;
 pub mod export;
@@ -22,6 +23,8 @@ pub mod geom;
 pub mod io;
 pub mod output;
 pub mod physics;
+pub mod pipeline;
+pub mod recognize;
 pub mod render;
 pub mod scene;
 pub mod score;

@@ -39,6 +39,8 @@ pub enum Command {
     Edges(commands::edges::Args),
     /// Lines, vertices and six-bit codes of a view (thesis Ch. IV, V).
     Vertices(commands::vertices::Args),
+    /// Recognize the blocks of rendered views (thesis Ch. IV-V): a reconstruction file.
+    Recognize(commands::recognize::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
     /// Benchmarks that print tables.
@@ -75,6 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Score(a) => commands::score::run(a),
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),
+        Command::Recognize(a) => commands::recognize::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::View(a) => commands::view::run(a),

@@ -6,6 +6,7 @@ pub mod edges;
 pub mod export;
 pub mod generate;
 pub mod merge;
+pub mod recognize;
 pub mod render;
 pub mod score;
 pub mod settle;

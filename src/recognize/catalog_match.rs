@@ -1,0 +1,293 @@
+//! Step 3 of the recognizer (Chapter V): turn each parallelogram's height and side lengths into
+//! the catalog blocks they can belong to (with yaw 0 or 90), classify the blocks into layers
+//! (the bottom layer at y = 0) and find which blocks touch.
+
+use super::parallelogram::{drop_below_mm, horizontal_axis_for, point_at_height_mm};
+use super::parallelogram::{Face, Parallelogram};
+use super::Camera;
+use crate::drawing::LineDrawing;
+use crate::geom::{DVec3, CONTACT_TOL_MM};
+use crate::scene::{Block, BlockType, CATALOG};
+
+/// Tolerances of the catalog match, mm and degrees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MatchTolerances {
+    /// A measured length may exceed a catalog length by this much, mm; default 1.0.
+    pub length_mm: f64,
+    /// A side may deviate from a world axis by this much in the picture, degrees; default 4.
+    pub axis_deg: f64,
+}
+
+impl Default for MatchTolerances {
+    fn default() -> Self {
+        MatchTolerances {
+            length_mm: 1.0,
+            axis_deg: 4.0,
+        }
+    }
+}
+
+/// The heights (mm) a top face can have: every sum of catalog block heights up to
+/// `max_height_mm` (a stack of layers on the floor, Chapter V), ascending.
+pub fn level_heights_mm(max_height_mm: f64) -> Vec<f64> {
+    let heights: Vec<f64> = CATALOG.iter().map(|t| t.size_mm().y).collect();
+    let mut levels: Vec<f64> = vec![0.0];
+    let mut i = 0;
+    while i < levels.len() {
+        for h in &heights {
+            let y = levels[i] + h;
+            if y <= max_height_mm + 1e-9 && !levels.iter().any(|l| (l - y).abs() < 1e-6) {
+                levels.push(y);
+            }
+        }
+        i += 1;
+    }
+    levels.retain(|&y| y > 0.0);
+    levels.sort_by(f64::total_cmp);
+    levels
+}
+
+/// The block's footprint along world x and z for yaw 0 or 90 degrees.
+fn footprint_mm(t: &BlockType, yaw_deg: f64) -> (f64, f64) {
+    let s = t.size_mm();
+    if yaw_deg == 0.0 {
+        (s.x, s.z)
+    } else {
+        (s.z, s.x)
+    }
+}
+
+/// The yaws worth trying for a type: 0, and 90 when the footprint is not square.
+pub fn distinct_yaws_deg(t: &BlockType) -> Vec<f64> {
+    let s = t.size_mm();
+    if (s.x - s.z).abs() < 1e-9 {
+        vec![0.0]
+    } else {
+        vec![0.0, 90.0]
+    }
+}
+
+/// The horizontal axis into a block from its visible side face whose top edge runs along
+/// `along`: perpendicular to it, pointing away from the camera at `at_mm`.
+fn into_block_axis(camera: &Camera, at_mm: DVec3, along: DVec3) -> DVec3 {
+    let side = DVec3::new(along.z, 0.0, -along.x);
+    let towards_eye = if camera.is_orthographic() {
+        camera.towards_eye()
+    } else {
+        camera.eye() - at_mm
+    };
+    if side.dot(towards_eye) > 0.0 {
+        -side
+    } else {
+        side
+    }
+}
+
+/// The parallelogram's world corner, its two horizontal edge axes and their least lengths
+/// (the visible sides) at top height `y_top_mm`; `None` when a side is off the world axes.
+fn measure_at(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    y_top_mm: f64,
+    tol: &MatchTolerances,
+) -> Option<(DVec3, [DVec3; 2], [f64; 2])> {
+    let v_px = p.vertex.at_px;
+    let corner = point_at_height_mm(camera, v_px, y_top_mm)?;
+    let horizontal = match p.face {
+        Face::Top(_) => 2,
+        Face::Side(_) => 1,
+    };
+    let mut axes = [DVec3::ZERO; 2];
+    let mut min_len = [0.0; 2];
+    for k in 0..horizontal {
+        let end_px = drawing.points[p.sides[k].first()?.point];
+        let (axis, ang) = horizontal_axis_for(camera, corner, end_px - v_px);
+        if ang > tol.axis_deg {
+            return None;
+        }
+        axes[k] = axis;
+        min_len[k] =
+            point_at_height_mm(camera, end_px, y_top_mm).map_or(0.0, |q| q.distance(corner));
+    }
+    if horizontal == 1 {
+        axes[1] = into_block_axis(camera, corner, axes[0]);
+    }
+    (axes[0].dot(axes[1]).abs() < 0.5).then_some((corner, axes, min_len))
+}
+
+/// Every catalog block (type, yaw 0/90) that has `p`'s vertex as the corner `p.face` of its
+/// top face (or the top corner of a side face) at one of `levels_mm`, with edges at least as
+/// long as the visible ones and a height at least the visible "down" edge (rule (1) of
+/// Chapter V: an edge may be occluded, never longer than the block). Empty when a side is not
+/// along a world axis.
+pub fn catalog_candidates(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    levels_mm: &[f64],
+    tol: &MatchTolerances,
+) -> Vec<Block> {
+    let mut out = Vec::new();
+    for &y_top in levels_mm {
+        let Some((corner, axes, min_len)) = measure_at(p, drawing, camera, y_top, tol) else {
+            continue;
+        };
+        let min_height = p
+            .down_end
+            .map_or(0.0, |e| drop_below_mm(camera, corner, drawing.points[e]));
+        for t in CATALOG {
+            for yaw in distinct_yaws_deg(t) {
+                let (fx, fz) = footprint_mm(t, yaw);
+                let dim = |a: DVec3| if a.x.abs() > 0.5 { fx } else { fz };
+                let h = t.size_mm().y;
+                let fits = (0..2).all(|k| dim(axes[k]) + tol.length_mm >= min_len[k])
+                    && h + tol.length_mm >= min_height
+                    && h <= y_top + 1e-6;
+                if fits {
+                    let centre =
+                        corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
+                            - DVec3::Y * h / 2.0;
+                    out.push(Block::new(t.id, centre, yaw));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Axis-aligned world bounds (min, max) of a block in mm.
+pub fn bounds_mm(b: &Block) -> (DVec3, DVec3) {
+    b.world_vertices()
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        })
+}
+
+/// `true` when two blocks' boxes overlap by more than the contact tolerance on every axis.
+pub fn blocks_overlap(a: &Block, b: &Block) -> bool {
+    let (la, ha) = bounds_mm(a);
+    let (lb, hb) = bounds_mm(b);
+    let pen = ha.min(hb) - la.max(lb);
+    pen.min_element() > 2.0 * CONTACT_TOL_MM
+}
+
+/// One layer of the reconstruction (Chapter V: "classify the number of levels and the blocks
+/// which belong to these levels"): blocks whose bottoms lie at one height.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layer {
+    /// Height of the layer's bottom, mm (the bottom layer is at y = 0).
+    pub bottom_mm: f64,
+    /// Indices of its blocks.
+    pub blocks: Vec<usize>,
+}
+
+/// Groups blocks into layers by bottom height (within `tol_mm`), lowest first.
+pub fn classify_layers(blocks: &[Block], tol_mm: f64) -> Vec<Layer> {
+    let mut layers: Vec<Layer> = Vec::new();
+    let mut order: Vec<usize> = (0..blocks.len()).collect();
+    order.sort_by(|&a, &b| {
+        bounds_mm(&blocks[a])
+            .0
+            .y
+            .total_cmp(&bounds_mm(&blocks[b]).0.y)
+    });
+    for i in order {
+        let y = bounds_mm(&blocks[i]).0.y;
+        match layers.last_mut() {
+            Some(l) if (l.bottom_mm - y).abs() <= tol_mm => l.blocks.push(i),
+            _ => layers.push(Layer {
+                bottom_mm: y,
+                blocks: vec![i],
+            }),
+        }
+    }
+    layers
+}
+
+/// Pairs of blocks that touch face to face (gap under `tol_mm` on one axis, overlapping on the
+/// other two): the connections the thesis reads from "T" vertices within and between layers.
+pub fn touching_pairs(blocks: &[Block], tol_mm: f64) -> Vec<[usize; 2]> {
+    let mut out = Vec::new();
+    for i in 0..blocks.len() {
+        for j in i + 1..blocks.len() {
+            let (la, ha) = bounds_mm(&blocks[i]);
+            let (lb, hb) = bounds_mm(&blocks[j]);
+            let overlap = ha.min(hb) - la.max(lb);
+            let touching_axes = (0..3).filter(|&k| overlap[k].abs() <= tol_mm).count();
+            let overlapping_axes = (0..3).filter(|&k| overlap[k] > tol_mm).count();
+            if touching_axes == 1 && overlapping_axes == 2 {
+                out.push([i, j]);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parallelogram::Face as F;
+    use super::super::parallelogram::{ParallelogramSearch, TopCorner};
+    use super::super::select::select_vertices;
+    use super::*;
+    use crate::camera::{CameraOptions, CornerView};
+    use crate::render::truth::visible_line_drawing;
+    use crate::scene::Scene;
+
+    #[test]
+    fn levels_are_the_sums_of_catalog_heights() {
+        assert_eq!(level_heights_mm(30.0), vec![7.5, 15.0, 22.5, 30.0]);
+    }
+
+    #[test]
+    fn a_b30_fork_yields_the_b30_at_its_true_level_among_the_candidates() {
+        let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
+        let scene = Scene::new("one", vec![truth]);
+        let cam = Camera::frame(
+            &truth.world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let d = visible_line_drawing(&scene, &cam);
+        let search = ParallelogramSearch::new(&d, 0.5);
+        let levels = level_heights_mm(45.0);
+        let mut all = Vec::new();
+        for v in select_vertices(&d) {
+            if let Some(p) = search.search(&v, F::Top(TopCorner::Near)) {
+                all.extend(catalog_candidates(
+                    &p,
+                    &d,
+                    &cam,
+                    &levels,
+                    &MatchTolerances::default(),
+                ));
+            }
+        }
+        assert!(all
+            .iter()
+            .any(|b| b.block_type.id == "b30" && b.center_mm.distance(truth.center_mm) < 1e-6));
+        // The b15 cannot be it: the visible 30 mm side is longer than 15 mm.
+        assert!(all.iter().all(|b| b.block_type.id != "b15"));
+        // The b7_5 cannot be it either: the visible vertical edge is 15 mm.
+        assert!(all.iter().all(|b| b.block_type.id != "b7_5"));
+    }
+
+    #[test]
+    fn layers_and_touching_pairs_of_a_two_layer_stack() {
+        let blocks = vec![
+            Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(45.0, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(90.0, 7.5, 7.5), 0.0),
+        ];
+        let layers = classify_layers(&blocks, 1.0);
+        assert_eq!(layers.len(), 2);
+        assert_eq!(layers[0].blocks, vec![0, 2, 3]);
+        assert_eq!(layers[1].bottom_mm, 15.0);
+        assert_eq!(touching_pairs(&blocks, 0.1), vec![[0, 1], [0, 2]]);
+        assert!(!blocks_overlap(&blocks[0], &blocks[1]));
+        let shifted = Block::new("b15", DVec3::new(10.0, 7.5, 7.5), 0.0);
+        assert!(blocks_overlap(&blocks[0], &shifted));
+    }
+}

@@ -1,0 +1,191 @@
+//! The recognizer (thesis Chapters IV-V) on the whole accuracy suite `scenes/bench/`, from the
+//! exact line drawings (`render::truth`, the `--from-truth` input): every supported scene whose
+//! blocks some view shows comes out `exact`, every known failure case is declined or exact, and
+//! no answer is confidently wrong. Also: the check step (step 6) catches a worse answer.
+
+mod common;
+
+use blockworld::camera::{Camera, CameraOptions, CornerView};
+use blockworld::drawing::LineDrawing;
+use blockworld::recognize::{
+    check_hypothesis, equally_good_alternative, recognize, ObservedView, Recognition,
+    RecognizeOptions,
+};
+use blockworld::render::truth::visible_line_drawing;
+use blockworld::scene::{read_scene, ReconStatus, Scene};
+use blockworld::score::{scene_family, score_reconstruction, Verdict};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// The views of `scene` exactly as `render` frames them, with their exact drawings.
+fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
+    let points: Vec<_> = scene
+        .blocks
+        .iter()
+        .flat_map(|b| b.world_vertices())
+        .collect();
+    views
+        .iter()
+        .map(|&v| {
+            let camera = Camera::frame(&points, v, &CameraOptions::default());
+            let drawing: LineDrawing = visible_line_drawing(scene, &camera);
+            ObservedView { drawing, camera }
+        })
+        .collect()
+}
+
+/// `true` when the views show the blocks: every block has a line in some view, and no other
+/// set of catalog blocks (one block split, two merged: a crack hidden in every view) draws the
+/// same views as the truth itself.
+fn every_block_shown(scene: &Scene, views: &[ObservedView]) -> bool {
+    let shown: BTreeSet<usize> = views
+        .iter()
+        .flat_map(|v| v.drawing.edges.iter().map(|e| e.block))
+        .collect();
+    let tol = RecognizeOptions::default().tol_px;
+    shown.len() == scene.blocks.len()
+        && equally_good_alternative(&scene.blocks, views, tol).is_none()
+}
+
+#[derive(Default)]
+struct Row {
+    scenes: usize,
+    exact: usize,
+    declined: usize,
+    wrong: usize,
+    other: usize,
+}
+
+struct Outcome {
+    id: String,
+    family: String,
+    supported: bool,
+    shown: bool,
+    verdict: Verdict,
+    recognition: Recognition,
+}
+
+fn run_suite(views: &[CornerView]) -> Vec<Outcome> {
+    let dir = common::root().join("scenes/bench");
+    common::json_files(&dir)
+        .iter()
+        .map(|path| {
+            let truth = read_scene(path).unwrap();
+            let observed = truth_views(&truth, views);
+            let recognition = recognize(&observed, &RecognizeOptions::default()).unwrap();
+            let recon = blockworld::csg::reconstruction(&truth.name, &recognition, 0.5);
+            let verdict = score_reconstruction(&truth, &recon).unwrap().verdict;
+            Outcome {
+                id: common::stem(path),
+                family: scene_family(&truth),
+                supported: truth.is_supported(),
+                shown: every_block_shown(&truth, &observed),
+                verdict,
+                recognition,
+            }
+        })
+        .collect()
+}
+
+/// Prints the per-family table and returns (exact, confidently wrong, scenes).
+fn table(label: &str, outcomes: &[Outcome]) -> (usize, usize, usize) {
+    let mut rows: BTreeMap<&str, Row> = BTreeMap::new();
+    for o in outcomes {
+        let r = rows.entry(o.family.as_str()).or_default();
+        r.scenes += 1;
+        match (o.recognition.status, o.verdict) {
+            (ReconStatus::Unsupported, _) => r.declined += 1,
+            (_, Verdict::Exact) => r.exact += 1,
+            (ReconStatus::Ok, _) => r.wrong += 1,
+        }
+        r.other += usize::from(!o.supported);
+    }
+    println!("\n{label}\n| family | scenes | exact | declined | confidently wrong | expected unsupported |");
+    println!("|---|---|---|---|---|---|");
+    for (f, r) in &rows {
+        println!(
+            "| {f} | {} | {} | {} | {} | {} |",
+            r.scenes, r.exact, r.declined, r.wrong, r.other
+        );
+    }
+    let exact: usize = rows.values().map(|r| r.exact).sum();
+    let wrong: usize = rows.values().map(|r| r.wrong).sum();
+    println!(
+        "| all | {} | {exact} | {} | {wrong} | |",
+        outcomes.len(),
+        outcomes.len() - exact - wrong
+    );
+    for o in outcomes.iter().filter(|o| o.verdict != Verdict::Exact) {
+        println!(
+            "  {} {}: {:?} {:?}",
+            o.id, o.family, o.verdict, o.recognition.reason
+        );
+    }
+    (exact, wrong, outcomes.len())
+}
+
+#[test]
+fn all_four_views_from_truth_recognize_every_supported_scene_exactly() {
+    let outcomes = run_suite(&CornerView::ALL);
+    let (_, wrong, _) = table("four views, from truth", &outcomes);
+    assert_eq!(wrong, 0, "confidently wrong answers");
+    let hidden: Vec<&str> = outcomes
+        .iter()
+        .filter(|o| o.supported && !o.shown)
+        .map(|o| o.id.as_str())
+        .collect();
+    println!("supported scenes the views do not decide: {hidden:?}");
+    assert!(
+        hidden.len() <= 2,
+        "the suite should mostly be decidable: {hidden:?}"
+    );
+    for o in &outcomes {
+        if o.supported && o.shown {
+            assert_eq!(
+                o.verdict,
+                Verdict::Exact,
+                "{} ({}): {:?}",
+                o.id,
+                o.family,
+                o.recognition.reason
+            );
+        }
+        if !o.supported {
+            assert!(
+                o.recognition.status == ReconStatus::Unsupported || o.verdict == Verdict::Exact,
+                "{} ({}) neither declined nor exact",
+                o.id,
+                o.family
+            );
+        }
+    }
+}
+
+#[test]
+fn two_opposite_views_from_truth_are_never_confidently_wrong() {
+    let outcomes = run_suite(&[CornerView::Ne, CornerView::Sw]);
+    let (exact, wrong, n) = table("NE + SW, from truth", &outcomes);
+    assert_eq!(wrong, 0, "confidently wrong answers");
+    assert!(exact > n / 2, "only {exact} of {n} exact from two views");
+}
+
+#[test]
+fn the_check_step_catches_an_answer_with_a_block_dropped() {
+    let path = common::root().join("scenes/bench/s000014.json");
+    let truth = read_scene(&path).unwrap();
+    let observed = truth_views(&truth, &CornerView::ALL);
+    let r = recognize(&observed, &RecognizeOptions::default()).unwrap();
+    assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
+    let tol = RecognizeOptions::default().tol_px;
+    assert!(check_hypothesis(&r.blocks, &observed, tol)
+        .iter()
+        .all(|c| c.is_explained()));
+    for drop in 0..r.blocks.len() {
+        let mut worse = r.blocks.clone();
+        worse.remove(drop);
+        let checks = check_hypothesis(&worse, &observed, tol);
+        assert!(
+            checks.iter().any(|c| !c.is_explained()),
+            "dropping block {drop} went unnoticed"
+        );
+    }
+}
