@@ -28,4 +28,5 @@ pub mod recognize;
 pub mod render;
 pub mod scene;
 pub mod score;
+pub mod view;
 pub mod vision;

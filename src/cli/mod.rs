@@ -45,6 +45,8 @@ pub enum Command {
     Export(commands::export::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
+    /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
+    View(commands::view::Args),
 }
 
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
@@ -78,6 +80,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Recognize(a) => commands::recognize::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::View(a) => commands::view::run(a),
     }
 }
 

@@ -11,3 +11,4 @@ pub mod render;
 pub mod score;
 pub mod settle;
 pub mod vertices;
+pub mod view;
