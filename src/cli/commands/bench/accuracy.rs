@@ -123,6 +123,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The suite's results and, per scene id, how many blocks no view shows.
+type SuiteOutcome = (Vec<SceneResult>, Vec<(String, usize)>);
+
 /// Renders, recognizes and scores every suite scene (`pipeline::run_suite`); returns the
 /// results and, per scene, how many blocks no view shows.
 fn run_recognizer(
@@ -130,7 +133,7 @@ fn run_recognizer(
     suite: &[(String, Scene)],
     views: Vec<blockworld::camera::CornerView>,
     render: blockworld::render::RenderOptions,
-) -> anyhow::Result<(Vec<SceneResult>, Vec<(String, usize)>)> {
+) -> anyhow::Result<SuiteOutcome> {
     let renderer = Renderer::new(args.view.backend()?).context("starting the renderer")?;
     print!("{}", super::machine::banner(Some(&renderer)));
     let opts = PipelineOptions {
