@@ -11,7 +11,8 @@ use blockworld::recognize::{
     Recognition,
 };
 use blockworld::render::truth::visible_line_drawing;
-use blockworld::render::{Camera, CameraOptions, CornerView};
+use blockworld::render::{Camera, CameraOptions, CornerView, RenderOptions};
+use blockworld::vision::{detect_line_drawing, VisionOptions};
 use blockworld::scene::{read_scene, ReconStatus, Scene};
 use blockworld::score::{score_reconstruction, scene_family, Verdict};
 use std::collections::{BTreeMap, BTreeSet};
@@ -61,12 +62,19 @@ struct Outcome {
 }
 
 fn run_suite(views: &[CornerView]) -> Vec<Outcome> {
+    run_suite_on(views, &|truth: &Scene| truth_views(truth, views))
+}
+
+/// The suite with the drawings `observe` gives (exact ones, or the vision front end's).
+fn run_suite_on(views: &[CornerView], observe: &dyn Fn(&Scene) -> Vec<ObservedView>) -> Vec<Outcome> {
     let dir = common::root().join("scenes/bench");
+    let exact_views = |truth: &Scene| truth_views(truth, views);
     common::json_files(&dir)
         .iter()
         .map(|path| {
             let truth = read_scene(path).unwrap();
-            let observed = truth_views(&truth, views);
+            let observed = observe(&truth);
+            let shown = every_block_shown(&truth, &exact_views(&truth));
             let recognition = recognize(&observed, &RecognizeOptions::default()).unwrap();
             let recon = recognition.to_scene(&truth.name);
             let verdict = score_reconstruction(&truth, &recon).unwrap().verdict;
@@ -74,7 +82,7 @@ fn run_suite(views: &[CornerView]) -> Vec<Outcome> {
                 id: common::stem(path),
                 family: scene_family(&truth),
                 supported: truth.is_supported(),
-                shown: every_block_shown(&truth, &observed),
+                shown,
                 verdict,
                 recognition,
             }
@@ -145,6 +153,32 @@ fn two_opposite_views_from_truth_are_never_confidently_wrong() {
     let (exact, wrong, n) = table("NE + SW, from truth", &outcomes);
     assert_eq!(wrong, 0, "confidently wrong answers");
     assert!(exact > n / 2, "only {exact} of {n} exact from two views");
+}
+
+#[test]
+fn from_rendered_pictures_through_vision_no_answer_is_confidently_wrong() {
+    let Some(renderer) = common::renderer() else {
+        return;
+    };
+    let opts = RenderOptions::default();
+    let observe = |truth: &Scene| -> Vec<ObservedView> {
+        renderer
+            .render_views(truth, &CornerView::ALL, &opts)
+            .unwrap()
+            .into_iter()
+            .map(|v| {
+                let det = detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default()).unwrap();
+                ObservedView {
+                    drawing: det.drawing,
+                    camera: v.camera,
+                }
+            })
+            .collect()
+    };
+    let outcomes = run_suite_on(&CornerView::ALL, &observe);
+    let (exact, wrong, n) = table("four views, from rendered pictures (vision)", &outcomes);
+    assert_eq!(wrong, 0, "confidently wrong answers from pictures");
+    assert!(exact * 2 > n, "only {exact} of {n} exact from pictures");
 }
 
 #[test]

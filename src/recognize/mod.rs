@@ -297,6 +297,20 @@ pub fn recognize(views: &[ObservedView], opts: &RecognizeOptions) -> Result<Reco
         return Err(RecognizeError::NoViews);
     }
     views.iter().try_for_each(check_drawing)?;
+    // Codes, junctions and unclassified lines from the drawing's own geometry
+    // (`LineDrawing::finalize`), so the selection does not depend on which front end drew it.
+    let views: Vec<ObservedView> = views
+        .iter()
+        .map(|v| {
+            let mut drawing = v.drawing.clone();
+            drawing.finalize();
+            ObservedView {
+                drawing,
+                camera: v.camera,
+            }
+        })
+        .collect();
+    let views = &views[..];
     let mut evidence = Evidence::default();
     if let Some(d) = check_directions(views, opts) {
         return Ok(Recognition::declined(d, evidence));

@@ -165,14 +165,15 @@ impl<'a> ParallelogramSearch<'a> {
                 point: cur,
                 length_px: origin.distance(self.at(cur)),
             });
-            let heading = self.at(cur) - self.at(prev);
+            let heading = self.at(cur) - origin;
             let next = self.neighbours[cur].iter().copied().find(|&n| {
-                n != prev
-                    && (self.at(n) - self.at(cur))
-                        .angle_to(heading)
-                        .abs()
-                        .to_degrees()
-                        < COLLINEAR_TOL_DEG
+                let step = self.at(n) - self.at(cur);
+                // Collinear within COLLINEAR_TOL_DEG, or within the point tolerance.
+                let tol_deg = (self.tol_px / step.length().max(1e-9))
+                    .atan()
+                    .to_degrees()
+                    .max(COLLINEAR_TOL_DEG);
+                n != prev && step.angle_to(heading).abs().to_degrees() < tol_deg
             });
             match next {
                 Some(n) => (prev, cur) = (cur, n),
