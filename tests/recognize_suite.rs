@@ -178,7 +178,8 @@ fn from_rendered_pictures_through_vision_no_answer_is_confidently_wrong() {
     let outcomes = run_suite_on(&CornerView::ALL, &observe);
     let (exact, wrong, n) = table("four views, from rendered pictures (vision)", &outcomes);
     assert_eq!(wrong, 0, "confidently wrong answers from pictures");
-    assert!(exact * 2 > n, "only {exact} of {n} exact from pictures");
+    // Measured: 53 of 64 exact (all 54 supported but the one the views do not decide).
+    assert!(exact >= 50, "only {exact} of {n} exact from pictures");
 }
 
 #[test]

@@ -28,11 +28,11 @@ pub(crate) use crate::render::Camera;
 
 pub use catalog_match::{
     blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
-    level_heights_mm, touching_pairs, Layer, MatchTolerances,
+    level_heights_mm, make_touching_flush, touching_pairs, Layer, MatchTolerances,
 };
 pub use compare::{
     catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates, yaw_deg,
-    PooledCandidate, SearchLimits,
+    PooledCandidate, SearchLimits, FLUSH_TOL_MM,
 };
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
 pub use parallelogram::{
