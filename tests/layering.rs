@@ -23,7 +23,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "scene", "physics", "render", "output", "drawing", "io", "geom",
         ],
     ),
-    ("recognize", &["drawing", "render", "scene", "geom", "camera"]),
+    (
+        "recognize",
+        &["drawing", "render", "scene", "geom", "camera"],
+    ),
     ("csg", &["recognize", "scene", "geom", "camera"]),
     ("kanade", &["drawing", "geom"]),
     ("view", &["scene", "geom"]),

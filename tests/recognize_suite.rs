@@ -7,19 +7,23 @@ mod common;
 
 use blockworld::drawing::LineDrawing;
 use blockworld::recognize::{
-    check_hypothesis, equally_good_alternative, recognize, ObservedView, RecognizeOptions,
-    Recognition,
+    check_hypothesis, equally_good_alternative, recognize, ObservedView, Recognition,
+    RecognizeOptions,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Camera, CameraOptions, CornerView, RenderOptions};
-use blockworld::vision::{detect_line_drawing, VisionOptions};
 use blockworld::scene::{read_scene, ReconStatus, Scene};
-use blockworld::score::{score_reconstruction, scene_family, Verdict};
+use blockworld::score::{scene_family, score_reconstruction, Verdict};
+use blockworld::vision::{detect_line_drawing, VisionOptions};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The views of `scene` exactly as `render` frames them, with their exact drawings.
 fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
-    let points: Vec<_> = scene.blocks.iter().flat_map(|b| b.world_vertices()).collect();
+    let points: Vec<_> = scene
+        .blocks
+        .iter()
+        .flat_map(|b| b.world_vertices())
+        .collect();
     views
         .iter()
         .map(|&v| {
@@ -66,7 +70,10 @@ fn run_suite(views: &[CornerView]) -> Vec<Outcome> {
 }
 
 /// The suite with the drawings `observe` gives (exact ones, or the vision front end's).
-fn run_suite_on(views: &[CornerView], observe: &dyn Fn(&Scene) -> Vec<ObservedView>) -> Vec<Outcome> {
+fn run_suite_on(
+    views: &[CornerView],
+    observe: &dyn Fn(&Scene) -> Vec<ObservedView>,
+) -> Vec<Outcome> {
     let dir = common::root().join("scenes/bench");
     let exact_views = |truth: &Scene| truth_views(truth, views);
     common::json_files(&dir)
@@ -113,9 +120,16 @@ fn table(label: &str, outcomes: &[Outcome]) -> (usize, usize, usize) {
     }
     let exact: usize = rows.values().map(|r| r.exact).sum();
     let wrong: usize = rows.values().map(|r| r.wrong).sum();
-    println!("| all | {} | {exact} | {} | {wrong} | |", outcomes.len(), outcomes.len() - exact - wrong);
+    println!(
+        "| all | {} | {exact} | {} | {wrong} | |",
+        outcomes.len(),
+        outcomes.len() - exact - wrong
+    );
     for o in outcomes.iter().filter(|o| o.verdict != Verdict::Exact) {
-        println!("  {} {}: {:?} {:?}", o.id, o.family, o.verdict, o.recognition.reason);
+        println!(
+            "  {} {}: {:?} {:?}",
+            o.id, o.family, o.verdict, o.recognition.reason
+        );
     }
     (exact, wrong, outcomes.len())
 }
@@ -131,10 +145,20 @@ fn all_four_views_from_truth_recognize_every_supported_scene_exactly() {
         .map(|o| o.id.as_str())
         .collect();
     println!("supported scenes the views do not decide: {hidden:?}");
-    assert!(hidden.len() <= 2, "the suite should mostly be decidable: {hidden:?}");
+    assert!(
+        hidden.len() <= 2,
+        "the suite should mostly be decidable: {hidden:?}"
+    );
     for o in &outcomes {
         if o.supported && o.shown {
-            assert_eq!(o.verdict, Verdict::Exact, "{} ({}): {:?}", o.id, o.family, o.recognition.reason);
+            assert_eq!(
+                o.verdict,
+                Verdict::Exact,
+                "{} ({}): {:?}",
+                o.id,
+                o.family,
+                o.recognition.reason
+            );
         }
         if !o.supported {
             assert!(
@@ -167,7 +191,8 @@ fn from_rendered_pictures_through_vision_no_answer_is_confidently_wrong() {
             .unwrap()
             .into_iter()
             .map(|v| {
-                let det = detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default()).unwrap();
+                let det =
+                    detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default()).unwrap();
                 ObservedView {
                     drawing: det.drawing,
                     camera: v.camera,
@@ -190,7 +215,9 @@ fn the_check_step_catches_an_answer_with_a_block_dropped() {
     let r = recognize(&observed, &RecognizeOptions::default()).unwrap();
     assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
     let tol = RecognizeOptions::default().tol_px;
-    assert!(check_hypothesis(&r.blocks, &observed, tol).iter().all(|c| c.is_explained()));
+    assert!(check_hypothesis(&r.blocks, &observed, tol)
+        .iter()
+        .all(|c| c.is_explained()));
     for drop in 0..r.blocks.len() {
         let mut worse = r.blocks.clone();
         worse.remove(drop);

@@ -86,7 +86,7 @@ pub fn reference_vertex_mm(blocks: &[Block], camera: &Camera) -> Option<DVec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::recognize::{CameraOptions, CornerView};
 
     fn stack() -> Vec<Block> {
         vec![

@@ -107,7 +107,8 @@ fn measure_at(
             return None;
         }
         axes[k] = axis;
-        min_len[k] = point_at_height_mm(camera, end_px, y_top_mm).map_or(0.0, |q| q.distance(corner));
+        min_len[k] =
+            point_at_height_mm(camera, end_px, y_top_mm).map_or(0.0, |q| q.distance(corner));
     }
     if horizontal == 1 {
         axes[1] = into_block_axis(camera, corner, axes[0]);
@@ -144,8 +145,9 @@ pub fn catalog_candidates(
                     && h + tol.length_mm >= min_height
                     && h <= y_top + 1e-6;
                 if fits {
-                    let centre = corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
-                        - DVec3::Y * h / 2.0;
+                    let centre =
+                        corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
+                            - DVec3::Y * h / 2.0;
                     out.push(Block::new(t.id, centre, yaw));
                 }
             }
@@ -193,20 +195,29 @@ pub fn make_touching_flush(blocks: &[Block], tol_mm: f64) -> Vec<Block> {
                 _ => clusters.push(vec![c]),
             }
         }
-        let snap = |x: f64| {
+        // The agreed coordinate of a face, when another face (or the floor) is near it.
+        let snap = |x: f64| -> Option<f64> {
             let cl = clusters
                 .iter()
-                .find(|cl| cl.iter().any(|c| (c - x).abs() < 1e-12))
-                .expect("every coordinate is in a cluster");
-            if k == 1 && cl.iter().any(|c| *c == 0.0) {
-                0.0
+                .find(|cl| cl.iter().any(|c| (c - x).abs() < 1e-12))?;
+            if k == 1 && cl.contains(&0.0) {
+                Some(0.0)
             } else {
-                cl.iter().sum::<f64>() / cl.len() as f64
+                (cl.len() > 1).then(|| cl.iter().sum::<f64>() / cl.len() as f64)
             }
         };
         for (b, (lo, hi)) in out.iter_mut().zip(&bounds) {
             let half = (hi[k] - lo[k]) / 2.0;
-            b.center_mm[k] = ((snap(lo[k]) + half) + (snap(hi[k]) - half)) / 2.0;
+            let centres: Vec<f64> = [snap(lo[k]).map(|l| l + half), snap(hi[k]).map(|h| h - half)]
+                .into_iter()
+                .flatten()
+                .collect();
+            let on_floor = k == 1 && snap(lo[k]) == Some(0.0);
+            if on_floor {
+                b.center_mm[k] = half;
+            } else if !centres.is_empty() {
+                b.center_mm[k] = centres.iter().sum::<f64>() / centres.len() as f64;
+            }
         }
     }
     out
@@ -226,7 +237,12 @@ pub struct Layer {
 pub fn classify_layers(blocks: &[Block], tol_mm: f64) -> Vec<Layer> {
     let mut layers: Vec<Layer> = Vec::new();
     let mut order: Vec<usize> = (0..blocks.len()).collect();
-    order.sort_by(|&a, &b| bounds_mm(&blocks[a]).0.y.total_cmp(&bounds_mm(&blocks[b]).0.y));
+    order.sort_by(|&a, &b| {
+        bounds_mm(&blocks[a])
+            .0
+            .y
+            .total_cmp(&bounds_mm(&blocks[b]).0.y)
+    });
     for i in order {
         let y = bounds_mm(&blocks[i]).0.y;
         match layers.last_mut() {
@@ -261,12 +277,12 @@ pub fn touching_pairs(blocks: &[Block], tol_mm: f64) -> Vec<[usize; 2]> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::parallelogram::{ParallelogramSearch, TopCorner};
     use super::super::parallelogram::Face as F;
+    use super::super::parallelogram::{ParallelogramSearch, TopCorner};
     use super::super::select::select_vertices;
     use super::*;
+    use crate::recognize::{CameraOptions, CornerView};
     use crate::render::truth::visible_line_drawing;
-    use crate::render::{CameraOptions, CornerView};
     use crate::scene::Scene;
 
     #[test]
@@ -278,14 +294,24 @@ mod tests {
     fn a_b30_fork_yields_the_b30_at_its_true_level_among_the_candidates() {
         let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
         let scene = Scene::new("one", vec![truth]);
-        let cam = Camera::frame(&truth.world_vertices(), CornerView::Ne, &CameraOptions::default());
+        let cam = Camera::frame(
+            &truth.world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
         let d = visible_line_drawing(&scene, &cam);
         let search = ParallelogramSearch::new(&d, 0.5);
         let levels = level_heights_mm(45.0);
         let mut all = Vec::new();
         for v in select_vertices(&d) {
             if let Some(p) = search.search(&v, F::Top(TopCorner::Near)) {
-                all.extend(catalog_candidates(&p, &d, &cam, &levels, &MatchTolerances::default()));
+                all.extend(catalog_candidates(
+                    &p,
+                    &d,
+                    &cam,
+                    &levels,
+                    &MatchTolerances::default(),
+                ));
             }
         }
         assert!(all
@@ -308,8 +334,15 @@ mod tests {
         let (_, hi0) = bounds_mm(&flush[0]);
         let (lo1, _) = bounds_mm(&flush[1]);
         assert!((hi0.x - lo1.x).abs() < 1e-9, "{} {}", hi0.x, lo1.x);
-        assert!(bounds_mm(&flush[0]).0.y.abs() < 0.02, "{:?}", flush[0].center_mm);
-        assert_eq!(flush[2].center_mm, blocks[2].center_mm, "a block apart stays");
+        assert!(
+            bounds_mm(&flush[0]).0.y.abs() < 0.02,
+            "{:?}",
+            flush[0].center_mm
+        );
+        assert_eq!(
+            flush[2].center_mm, blocks[2].center_mm,
+            "a block apart stays"
+        );
     }
 
     #[test]
@@ -317,7 +350,7 @@ mod tests {
         let blocks = vec![
             Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0),
             Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
-            Block::new("b15", DVec3::new(45.0, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(37.5, 7.5, 7.5), 0.0),
             Block::new("b15", DVec3::new(90.0, 7.5, 7.5), 0.0),
         ];
         let layers = classify_layers(&blocks, 1.0);

@@ -312,7 +312,11 @@ pub fn catalog_splits(b: &Block) -> Vec<[Block; 2]> {
             step[k] = size[k] / 4.0;
             let step = rot * step;
             let part_yaw = (yaw + turn).rem_euclid(180.0);
-            let part_yaw = if distinct_yaws_deg(t).len() == 1 { 0.0 } else { part_yaw };
+            let part_yaw = if distinct_yaws_deg(t).len() == 1 {
+                0.0
+            } else {
+                part_yaw
+            };
             out.push([
                 Block::new(t.id, b.center_mm - step, part_yaw),
                 Block::new(t.id, b.center_mm + step, part_yaw),
@@ -415,7 +419,10 @@ mod tests {
         assert_eq!(s[0][1].center_mm, DVec3::new(7.5, 11.25, 7.5));
         assert!(catalog_splits(&s[0][0]).is_empty(), "a b7_5 does not split");
         let merged = catalog_merge(&s[0][1], &s[0][0]).unwrap();
-        assert_eq!((merged.block_type.id, merged.center_mm), ("b15", b15.center_mm));
+        assert_eq!(
+            (merged.block_type.id, merged.center_mm),
+            ("b15", b15.center_mm)
+        );
         let apart = Block::new("b15", DVec3::new(40.0, 7.5, 7.5), 0.0);
         assert!(catalog_merge(&b15, &apart).is_none());
     }

@@ -69,17 +69,22 @@ pub fn overhanging_blocks(blocks: &[Block], tol_mm: f64, step_mm: f64) -> Vec<us
             if lo.y <= tol_mm {
                 return false;
             }
-            let under: Vec<(DVec3, DVec3)> =
-                supports(b, blocks, tol_mm).iter().map(|s| bounds_mm(s)).collect();
+            let under: Vec<(DVec3, DVec3)> = supports(b, blocks, tol_mm)
+                .iter()
+                .map(|s| bounds_mm(s))
+                .collect();
             let nx = ((hi.x - lo.x) / step_mm).ceil().max(1.0) as usize;
             let nz = ((hi.z - lo.z) / step_mm).ceil().max(1.0) as usize;
             (0..=nx).any(|ix| {
                 (0..=nz).any(|iz| {
                     let x = lo.x + tol_mm + (hi.x - lo.x - 2.0 * tol_mm) * ix as f64 / nx as f64;
                     let z = lo.z + tol_mm + (hi.z - lo.z - 2.0 * tol_mm) * iz as f64 / nz as f64;
-                    !under
-                        .iter()
-                        .any(|(l, h)| x >= l.x - tol_mm && x <= h.x + tol_mm && z >= l.z - tol_mm && z <= h.z + tol_mm)
+                    !under.iter().any(|(l, h)| {
+                        x >= l.x - tol_mm
+                            && x <= h.x + tol_mm
+                            && z >= l.z - tol_mm
+                            && z <= h.z + tol_mm
+                    })
                 })
             })
         })
@@ -89,8 +94,8 @@ pub fn overhanging_blocks(blocks: &[Block], tol_mm: f64, step_mm: f64) -> Vec<us
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::recognize::{CameraOptions, CornerView};
     use crate::render::truth::visible_line_drawing;
-    use crate::render::{CameraOptions, CornerView};
     use crate::scene::Scene;
 
     #[test]
@@ -123,7 +128,11 @@ mod tests {
         let straight = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
         let turned = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 30.0);
         for (b, off) in [(straight, false), (turned, true)] {
-            let cam = Camera::frame(&b.world_vertices(), CornerView::Ne, &CameraOptions::default());
+            let cam = Camera::frame(
+                &b.world_vertices(),
+                CornerView::Ne,
+                &CameraOptions::default(),
+            );
             let d = visible_line_drawing(&Scene::new("t", vec![b]), &cam);
             assert_eq!(!lines_off_the_axes(&d, &cam, 2.0).is_empty(), off);
         }

@@ -23,16 +23,19 @@ mod parallelogram;
 mod select;
 mod verify;
 
-/// The camera type every recognizer file uses (the one import of it in this stage).
+/// The camera types this stage and `csg` use (the one import of them, so the camera's move to
+/// its own module is a one-line change).
 pub(crate) use crate::render::Camera;
+#[cfg(test)]
+pub(crate) use crate::render::{CameraOptions, CornerView, Projection};
 
 pub use catalog_match::{
     blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
     level_heights_mm, make_touching_flush, touching_pairs, Layer, MatchTolerances,
 };
 pub use compare::{
-    catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates, yaw_deg,
-    PooledCandidate, SearchLimits, FLUSH_TOL_MM,
+    catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates,
+    yaw_deg, PooledCandidate, SearchLimits, FLUSH_TOL_MM,
 };
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
 pub use parallelogram::{
@@ -233,7 +236,11 @@ fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
     if let Some(p) = d.points.iter().find(|p| !p.is_finite()) {
         return Err(bad(format!("point {p} is not finite")));
     }
-    if let Some(l) = d.lines.iter().find(|l| l.iter().any(|&i| i >= d.points.len())) {
+    if let Some(l) = d
+        .lines
+        .iter()
+        .find(|l| l.iter().any(|&i| i >= d.points.len()))
+    {
         return Err(bad(format!(
             "line {l:?} refers to a point beyond the {} points",
             d.points.len()
@@ -263,7 +270,11 @@ fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<D
 }
 
 /// Steps 1-3 on one view: its proposals and evidence counts.
-fn propose(view: &ObservedView, levels: &[f64], opts: &RecognizeOptions) -> (Vec<Block>, ViewEvidence) {
+fn propose(
+    view: &ObservedView,
+    levels: &[f64],
+    opts: &RecognizeOptions,
+) -> (Vec<Block>, ViewEvidence) {
     let selected = select_vertices(&view.drawing);
     let search = ParallelogramSearch::new(&view.drawing, opts.tol_px);
     let mut ev = ViewEvidence {
@@ -282,7 +293,13 @@ fn propose(view: &ObservedView, levels: &[f64], opts: &RecognizeOptions) -> (Vec
             };
             ev.parallelograms += 1;
             ev.closed_parallelograms += usize::from(p.closed_px.is_some());
-            out.extend(catalog_candidates(&p, &view.drawing, &view.camera, levels, &opts.matching));
+            out.extend(catalog_candidates(
+                &p,
+                &view.drawing,
+                &view.camera,
+                levels,
+                &opts.matching,
+            ));
         }
     }
     ev.proposals = out.len();
@@ -292,7 +309,10 @@ fn propose(view: &ObservedView, levels: &[f64], opts: &RecognizeOptions) -> (Vec
 /// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
 /// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status
 /// `Unsupported`; an `Err` means the input itself is malformed.
-pub fn recognize(views: &[ObservedView], opts: &RecognizeOptions) -> Result<Recognition, RecognizeError> {
+pub fn recognize(
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+) -> Result<Recognition, RecognizeError> {
     if views.is_empty() {
         return Err(RecognizeError::NoViews);
     }
@@ -338,16 +358,28 @@ pub fn recognize(views: &[ObservedView], opts: &RecognizeOptions) -> Result<Reco
     evidence.hypothesis = blocks.clone();
     if let Some((v, c)) = views.iter().zip(&checks).find(|(_, c)| !c.is_explained()) {
         let view = v.camera.view.name().to_string();
-        return Ok(Recognition::declined(Decline::Unexplained { view, check: *c }, evidence));
+        return Ok(Recognition::declined(
+            Decline::Unexplained { view, check: *c },
+            evidence,
+        ));
     }
     if let Some(detail) = equally_good_alternative(&blocks, views, opts.tol_px) {
-        return Ok(Recognition::declined(Decline::Ambiguous { detail }, evidence));
+        return Ok(Recognition::declined(
+            Decline::Ambiguous { detail },
+            evidence,
+        ));
     }
     if let Some(&block) = overhanging_blocks(&blocks, 0.5, 1.0).first() {
-        return Ok(Recognition::declined(Decline::UpperLayerLarger { block }, evidence));
+        return Ok(Recognition::declined(
+            Decline::UpperLayerLarger { block },
+            evidence,
+        ));
     }
     if let Some(&block) = floating_blocks(&blocks, 0.5).first() {
-        return Ok(Recognition::declined(Decline::HiddenSupport { block }, evidence));
+        return Ok(Recognition::declined(
+            Decline::HiddenSupport { block },
+            evidence,
+        ));
     }
     Ok(Recognition {
         layers: classify_layers(&blocks, 0.5),

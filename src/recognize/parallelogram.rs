@@ -273,7 +273,7 @@ pub fn horizontal_axis_for(camera: &Camera, at_mm: DVec3, picture_dir: DVec2) ->
 mod tests {
     use super::super::select::{select_vertices, tests::cube_drawing};
     use super::*;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::recognize::{CameraOptions, CornerView};
     use crate::render::truth::visible_line_drawing;
     use crate::scene::{Block, Scene};
 
@@ -281,10 +281,16 @@ mod tests {
     fn the_cube_fork_closes_its_top_rhombus_with_equal_sides() {
         let d = cube_drawing(10.0, DVec2::new(100.0, 100.0));
         let search = ParallelogramSearch::new(&d, 0.5);
-        let fork = select_vertices(&d).into_iter().find(|v| v.index == 6).unwrap();
+        let fork = select_vertices(&d)
+            .into_iter()
+            .find(|v| v.index == 6)
+            .unwrap();
         let p = search.search(&fork, Face::Top(TopCorner::Near)).unwrap();
         let [a, b] = p.closed_px.unwrap();
-        assert!((a - 10.0).abs() < 1e-9 && (b - 10.0).abs() < 1e-9, "{a} {b}");
+        assert!(
+            (a - 10.0).abs() < 1e-9 && (b - 10.0).abs() < 1e-9,
+            "{a} {b}"
+        );
         assert!((p.down_px.unwrap() - 10.0).abs() < 1e-9);
         // The fork has no right-down line: no face on that side (rule 3).
         assert!(search.search(&fork, Face::Top(TopCorner::Left)).is_none());
@@ -301,7 +307,11 @@ mod tests {
                 Block::new("b15", DVec3::new(22.5, 7.5, 7.5), 0.0),
             ],
         );
-        let verts: Vec<DVec3> = scene.blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        let verts: Vec<DVec3> = scene
+            .blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .collect();
         let cam = Camera::frame(&verts, CornerView::Se, &CameraOptions::default());
         let d = visible_line_drawing(&scene, &cam);
         let search = ParallelogramSearch::new(&d, 0.5);
@@ -318,8 +328,8 @@ mod tests {
     fn rays_give_millimetres_exactly_in_both_projections() {
         let corner = DVec3::new(15.0, 15.0, 0.0);
         for projection in [
-            crate::render::Projection::Orthographic,
-            crate::render::Projection::Perspective { fov_y_deg: 30.0 },
+            crate::recognize::Projection::Orthographic,
+            crate::recognize::Projection::Perspective { fov_y_deg: 30.0 },
         ] {
             let opts = CameraOptions {
                 projection,

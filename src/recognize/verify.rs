@@ -56,7 +56,10 @@ fn line_explained(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol_px
     let (a, b) = (from.points[line[0]], from.points[line[1]]);
     let dir = b - a;
     // Parallel within 3 degrees, or within what the point tolerance allows on a short line.
-    let max_angle_deg = (2.0 * tol_px / dir.length().max(1e-9)).atan().to_degrees().max(3.0);
+    let max_angle_deg = (2.0 * tol_px / dir.length().max(1e-9))
+        .atan()
+        .to_degrees()
+        .max(3.0);
     let samples = [a, (a + b) / 2.0, b, a.lerp(b, 0.25), a.lerp(b, 0.75)];
     samples.iter().all(|&s| {
         to.lines.iter().any(|&[i, j]| {
@@ -107,7 +110,7 @@ pub fn check_hypothesis(blocks: &[Block], views: &[ObservedView], tol_px: f64) -
 mod tests {
     use super::*;
     use crate::geom::DVec3;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::recognize::{CameraOptions, CornerView};
 
     fn two_blocks() -> Vec<Block> {
         vec![
