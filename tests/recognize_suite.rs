@@ -228,3 +228,63 @@ fn the_check_step_catches_an_answer_with_a_block_dropped() {
         );
     }
 }
+
+/// Writes `camera_<v>.json` and the exact `lines_<v>.json` of `scene` into `dir`, as `render`
+/// does, without a GPU.
+fn write_truth_dir(scene: &Scene, dir: &std::path::Path) {
+    std::fs::create_dir_all(dir).unwrap();
+    for v in truth_views(scene, &CornerView::ALL) {
+        let name = v.camera.view.name();
+        let camera = blockworld::output::camera_json(&v.camera);
+        std::fs::write(dir.join(format!("camera_{name}.json")), camera).unwrap();
+        std::fs::write(dir.join(format!("lines_{name}.json")), v.drawing.to_json()).unwrap();
+    }
+}
+
+#[test]
+fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
+    let truth = read_scene(&common::root().join("scenes/bench/s000014.json")).unwrap();
+    let tmp = std::env::temp_dir().join(format!("recognize_cli_{}", std::process::id()));
+    let dir = tmp.join("s000014");
+    write_truth_dir(&truth, &dir);
+    let out = tmp.join("recon.json");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let ok = run(&[
+        "recognize",
+        dir.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--from-truth",
+        "--views",
+        "ne,sw",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let recon = blockworld::scene::read_reconstruction(&out).unwrap();
+    assert_eq!(recon.status, Some(ReconStatus::Ok));
+    assert!(recon.csg.is_some());
+    assert_eq!(
+        score_reconstruction(&truth, &recon).unwrap().verdict,
+        Verdict::Exact
+    );
+    std::fs::remove_file(dir.join("lines_sw.json")).unwrap();
+    let bad = run(&[
+        "recognize",
+        dir.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--from-truth",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("lines_sw.json"), "{err}");
+    std::fs::remove_dir_all(&tmp).unwrap();
+}
