@@ -11,7 +11,7 @@ use blockworld::recognize::{
     RecognizeOptions,
 };
 use blockworld::render::truth::visible_line_drawing;
-use blockworld::render::{Camera, CameraOptions, CornerView, RenderOptions};
+use blockworld::render::{Camera, CameraOptions, CornerView, Projection, RenderOptions};
 use blockworld::scene::{read_scene, ReconStatus, Scene};
 use blockworld::score::{scene_family, score_reconstruction, Verdict};
 use blockworld::vision::{detect_line_drawing, VisionOptions};
@@ -19,6 +19,15 @@ use std::collections::{BTreeMap, BTreeSet};
 
 /// The views of `scene` exactly as `render` frames them, with their exact drawings.
 fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
+    truth_views_with(scene, views, &CameraOptions::default())
+}
+
+/// [`truth_views`] with explicit camera options.
+fn truth_views_with(
+    scene: &Scene,
+    views: &[CornerView],
+    opts: &CameraOptions,
+) -> Vec<ObservedView> {
     let points: Vec<_> = scene
         .blocks
         .iter()
@@ -27,7 +36,7 @@ fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
     views
         .iter()
         .map(|&v| {
-            let camera = Camera::frame(&points, v, &CameraOptions::default());
+            let camera = Camera::frame(&points, v, opts);
             let drawing: LineDrawing = visible_line_drawing(scene, &camera);
             ObservedView { drawing, camera }
         })
@@ -177,6 +186,20 @@ fn two_opposite_views_from_truth_are_never_confidently_wrong() {
     let (exact, wrong, n) = table("NE + SW, from truth", &outcomes);
     assert_eq!(wrong, 0, "confidently wrong answers");
     assert!(exact > n / 2, "only {exact} of {n} exact from two views");
+}
+
+#[test]
+fn perspective_views_from_truth_are_never_confidently_wrong() {
+    let opts = CameraOptions {
+        projection: Projection::Perspective { fov_y_deg: 30.0 },
+        ..CameraOptions::default()
+    };
+    let outcomes = run_suite_on(&CornerView::ALL, &|t: &Scene| {
+        truth_views_with(t, &CornerView::ALL, &opts)
+    });
+    let (exact, wrong, n) = table("four perspective views (30 degrees), from truth", &outcomes);
+    assert_eq!(wrong, 0, "confidently wrong answers");
+    assert!(exact * 2 > n, "only {exact} of {n} exact in perspective");
 }
 
 #[test]
