@@ -291,6 +291,23 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
         "{}",
         String::from_utf8_lossy(&ok.stderr)
     );
+    let first = std::fs::read(&out).unwrap();
+    assert!(run(&[
+        "recognize",
+        dir.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--from-truth",
+        "--views",
+        "ne,sw",
+    ])
+    .status
+    .success());
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        first,
+        "same input, same bytes"
+    );
     let recon = blockworld::scene::read_reconstruction(&out).unwrap();
     assert_eq!(recon.status, Some(ReconStatus::Ok));
     assert!(recon.csg.is_some());

@@ -4,7 +4,8 @@
 //! 1. [`select_vertices`]: the "Y" and collinear "T" vertices, sorted by picture y (Figure 5.1).
 //! 2. [`ParallelogramSearch`]: from each, along the directions its six-bit code allows, close
 //!    the top face (Figure 4.5); vertex, height and side lengths in px, converted to mm through
-//!    the camera's rays ([`point_at_height_mm`], [`drop_below_mm`]).
+//!    the camera's rays ([`measure_parallelogram_mm`], [`point_at_height_mm`],
+//!    [`drop_below_mm`]).
 //! 3. [`catalog_candidates`]: the catalog blocks (yaw 0 or 90) those measurements fit, at every
 //!    layer height (sums of catalog heights, bottom layer at y = 0); [`classify_layers`] and
 //!    [`touching_pairs`] for the answer.
@@ -31,7 +32,8 @@ pub(crate) use crate::render::{CameraOptions, CornerView, Projection};
 
 pub use catalog_match::{
     blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
-    level_heights_mm, make_touching_flush, touching_pairs, Layer, MatchTolerances,
+    level_heights_mm, make_touching_flush, measure_parallelogram_mm, touching_pairs, Layer,
+    MatchTolerances, ParallelogramMm,
 };
 pub use compare::{
     catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates,
@@ -292,7 +294,7 @@ fn propose(
                 continue;
             };
             ev.parallelograms += 1;
-            ev.closed_parallelograms += usize::from(p.closed_px.is_some());
+            ev.closed_parallelograms += usize::from(p.closed.is_some());
             out.extend(catalog_candidates(
                 &p,
                 &view.drawing,
