@@ -192,11 +192,7 @@ pub fn catalog_candidates(
 
 /// Axis-aligned world bounds (min, max) of a block in mm.
 pub fn bounds_mm(b: &Block) -> (DVec3, DVec3) {
-    b.world_vertices()
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        })
+    crate::geom::bounds3(b.world_vertices()).unwrap_or((DVec3::INFINITY, DVec3::NEG_INFINITY))
 }
 
 /// `true` when two blocks' boxes overlap by more than the contact tolerance on every axis.
@@ -267,24 +263,22 @@ pub struct Layer {
     pub blocks: Vec<usize>,
 }
 
-/// Groups blocks into layers by bottom height (within `tol_mm`), lowest first.
+/// Groups blocks into layers by bottom height (within `tol_mm`), lowest first, blocks of a
+/// layer in input order: the layers of `scene::layer_bottoms_mm` (the one home of layer
+/// counting) with their members.
 pub fn classify_layers(blocks: &[Block], tol_mm: f64) -> Vec<Layer> {
-    let mut layers: Vec<Layer> = Vec::new();
-    let mut order: Vec<usize> = (0..blocks.len()).collect();
-    order.sort_by(|&a, &b| {
-        bounds_mm(&blocks[a])
-            .0
-            .y
-            .total_cmp(&bounds_mm(&blocks[b]).0.y)
-    });
-    for i in order {
-        let y = bounds_mm(&blocks[i]).0.y;
-        match layers.last_mut() {
-            Some(l) if (l.bottom_mm - y).abs() <= tol_mm => l.blocks.push(i),
-            _ => layers.push(Layer {
-                bottom_mm: y,
-                blocks: vec![i],
-            }),
+    let bottoms = crate::scene::layer_bottoms_mm(blocks, tol_mm);
+    let mut layers: Vec<Layer> = bottoms
+        .iter()
+        .map(|&bottom_mm| Layer {
+            bottom_mm,
+            blocks: Vec::new(),
+        })
+        .collect();
+    for (i, b) in blocks.iter().enumerate() {
+        let k = crate::scene::layer_index(&bottoms, b.bottom_mm(), tol_mm);
+        if let Some(l) = layers.get_mut(k) {
+            l.blocks.push(i);
         }
     }
     layers
