@@ -1,0 +1,92 @@
+//! The true labelling of a ground-truth drawing (`lines_<view>.json` carries every line's kind,
+//! README "The exact line drawing") and the check whether a labelling is consistent with a
+//! catalog, junction by junction: how the labeller is measured on rendered scenes.
+
+use super::catalog::Catalog;
+use super::graph::{junction_sites, validate};
+use super::label::{EndLabel, LineLabel};
+use super::KanadeError;
+use crate::drawing::{Junction, LineDrawing, LineKind};
+use crate::geom::DVec2;
+use serde::Serialize;
+
+/// The labels that a ground-truth drawing's `kinds` say, with each occluding arrow's side taken
+/// from the picture position of the occluding block's centre (`block_centres_px[edges[i].block]`,
+/// the caller projects them): a block is convex, so its projection lies on the face side of each
+/// of its silhouette lines. `None` when the drawing carries no kinds or edges, or a block index
+/// is out of range.
+pub fn labelling_from_kinds(d: &LineDrawing, block_centres_px: &[DVec2]) -> Option<Vec<LineLabel>> {
+    if d.kinds.len() != d.lines.len() || d.edges.len() != d.lines.len() {
+        return None;
+    }
+    d.lines
+        .iter()
+        .zip(d.kinds.iter().zip(&d.edges))
+        .map(|(&[a, b], (kind, edge))| {
+            Some(match kind {
+                LineKind::Convex => LineLabel::Convex,
+                LineKind::Concave => LineLabel::Concave,
+                LineKind::Crack => LineLabel::Crack,
+                LineKind::Boundary => {
+                    let c = *block_centres_px.get(edge.block)?;
+                    let (pa, pb) = (*d.points.get(a)?, *d.points.get(b)?);
+                    LineLabel::occluding((pb - pa).perp_dot(c - pa) < 0.0)
+                }
+            })
+        })
+        .collect()
+}
+
+/// A junction where a labelling is not one of the catalog's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Violation {
+    /// Point index.
+    pub point: usize,
+    /// Junction class.
+    pub junction: Junction,
+    /// The labelling's labels at this junction in canonical order (PAIP letters).
+    pub labels: String,
+    /// `true` when the class is not in the catalog at all.
+    pub uncatalogued: bool,
+}
+
+/// The junctions at which `labels` (one per line) is not a catalog labelling; empty when the
+/// labelling is one of those [`super::label_drawing`] finds (without `--boundary-occluding`).
+/// Junctions outside the catalog are listed with `uncatalogued: true` but do not make a
+/// labelling inconsistent.
+pub fn check_labelling(
+    d: &LineDrawing,
+    labels: &[LineLabel],
+    catalog: Catalog,
+) -> Result<Vec<Violation>, KanadeError> {
+    validate(d)?;
+    let mut out = Vec::new();
+    for s in junction_sites(d) {
+        if s.ends.is_empty() {
+            continue;
+        }
+        let Some(here): Option<Vec<EndLabel>> = s
+            .ends
+            .iter()
+            .map(|e| {
+                labels
+                    .get(e.line)
+                    .map(|l| EndLabel::from_line_label(*l, e.at_start))
+            })
+            .collect()
+        else {
+            continue;
+        };
+        let rows = catalog.labellings(s.junction, s.ends.len());
+        let uncatalogued = rows.is_empty();
+        if uncatalogued || !rows.contains(&here) {
+            out.push(Violation {
+                point: s.point,
+                junction: s.junction,
+                labels: here.iter().map(|l| l.symbol()).collect(),
+                uncatalogued,
+            });
+        }
+    }
+    Ok(out)
+}
