@@ -5,8 +5,9 @@
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
-    check_labelling, junction_sites, label_drawing, labelling_from_kinds, rotations, Catalog,
-    EndLabel, LabelOptions, LabelReport, LineLabel,
+    check_labelling, depth_rms_px, is_consistent, junction_sites, label_drawing,
+    labelling_from_kinds, recover_shape, rotations, Catalog, EndLabel, LabelOptions, LabelReport,
+    LineLabel,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Camera, CameraOptions, CornerView};
@@ -236,13 +237,17 @@ const VIEWS: [CornerView; 4] = [
     CornerView::Nw,
 ];
 
-fn truth(scene: &Scene, view: CornerView) -> (LineDrawing, Vec<LineLabel>) {
+fn camera(scene: &Scene, view: CornerView) -> Camera {
     let pts: Vec<DVec3> = scene
         .blocks
         .iter()
         .flat_map(|b| b.world_vertices())
         .collect();
-    let cam = Camera::frame(&pts, view, &CameraOptions::default());
+    Camera::frame(&pts, view, &CameraOptions::default())
+}
+
+fn truth(scene: &Scene, view: CornerView) -> (LineDrawing, Vec<LineLabel>) {
+    let cam = camera(scene, view);
     let d = visible_line_drawing(scene, &cam);
     let centres: Vec<DVec2> = scene
         .blocks
@@ -258,7 +263,7 @@ fn a_rendered_cube_is_labelled_and_its_true_labelling_is_the_occluding_one() {
     let s = read_scene(Path::new("scenes/single_cube.json")).unwrap();
     for view in VIEWS {
         let (d, labels) = truth(&s, view);
-        assert!(check_labelling(&d, &labels, Catalog::HuffmanClowes)
+        assert!(check_labelling(&d, &labels, Catalog::HuffmanClowes, true)
             .unwrap()
             .is_empty());
         let r = label_drawing(
@@ -287,11 +292,15 @@ fn a_wrong_arrow_side_is_caught() {
         LineLabel::OccludingForward
     };
     assert_eq!(
-        check_labelling(&d, &labels, Catalog::HuffmanClowes)
+        check_labelling(&d, &labels, Catalog::HuffmanClowes, false)
             .unwrap()
             .len(),
-        2
+        2,
+        "both junctions of the line"
     );
+    let with_boundary = check_labelling(&d, &labels, Catalog::HuffmanClowes, true).unwrap();
+    assert_eq!(with_boundary.len(), 3, "and the outer line itself");
+    assert!(!is_consistent(&with_boundary));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -392,4 +401,73 @@ fn blocks_catalog_is_what_the_training_scenes_show() {
         "{path} differs from the training scenes' junctions; review and rerun with BLESS=1"
     );
     println!("{} extension rows", seen.len());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quantitative shape on rendered scenes
+// ---------------------------------------------------------------------------------------------
+
+/// Picture px per mm of an orthographic camera.
+fn px_per_mm(cam: &Camera) -> f64 {
+    cam.size_px[0] as f64 / 2.0 * cam.clip_from_view[0]
+}
+
+/// Both ends of every truth line as (x px, y px, depth towards the viewer in px).
+fn truth_ends_px(d: &LineDrawing, cam: &Camera) -> Vec<Option<[DVec3; 2]>> {
+    let s = px_per_mm(cam);
+    (0..d.lines.len())
+        .map(|i| {
+            let (a, b) = d.edge_world_mm(i)?;
+            let f = |p: DVec3| {
+                let q = cam.picture_from_world(p);
+                DVec3::new(q.x, q.y, -q.z * s)
+            };
+            Some([f(a), f(b)])
+        })
+        .collect()
+}
+
+fn shape_rms_mm(scene: &Scene, view: CornerView) -> (f64, usize, usize) {
+    let cam = camera(scene, view);
+    let (d, labels) = truth(scene, view);
+    let labels: Vec<Option<LineLabel>> = labels.into_iter().map(Some).collect();
+    let rec = recover_shape(&d, &labels).unwrap();
+    let (rms_px, n) = depth_rms_px(&rec, &truth_ends_px(&d, &cam)).unwrap();
+    (rms_px / px_per_mm(&cam), n, rec.inconsistent_links)
+}
+
+#[test]
+fn true_labellings_of_block_scenes_give_their_3d_lines_to_a_micrometre() {
+    for name in [
+        "single_cube",
+        "two_cubes_touching",
+        "row",
+        "two_layer",
+        "thesis_sample",
+    ] {
+        let s = read_scene(Path::new(&format!("scenes/{name}.json"))).unwrap();
+        for view in VIEWS {
+            let (rms_mm, n, bad) = shape_rms_mm(&s, view);
+            println!("{name} {view:?}: rms {rms_mm:.2e} mm over {n} line ends, {bad} broken links");
+            assert!(rms_mm < 1e-3, "{name} {view:?}: {rms_mm} mm");
+            assert!(n >= 2 * 9 && bad == 0, "{name} {view:?}");
+        }
+    }
+}
+
+#[test]
+fn a_wrong_reference_depth_shows_in_the_rms() {
+    let s = read_scene(Path::new("scenes/two_layer.json")).unwrap();
+    let cam = camera(&s, CornerView::Ne);
+    let (d, labels) = truth(&s, CornerView::Ne);
+    let labels: Vec<Option<LineLabel>> = labels.into_iter().map(Some).collect();
+    let mut rec = recover_shape(&d, &labels).unwrap();
+    // Push one line off its surface by a millimetre's worth of depth.
+    let i = rec.line_ends_px.iter().rposition(|e| e.is_some()).unwrap();
+    if let Some(e) = rec.line_ends_px[i].as_mut() {
+        e[1].z += px_per_mm(&cam);
+    }
+    let (rms_px, n) = depth_rms_px(&rec, &truth_ends_px(&d, &cam)).unwrap();
+    let rms_mm = rms_px / px_per_mm(&cam);
+    assert!((rms_mm - (1.0 / n as f64).sqrt()).abs() < 1e-6, "{rms_mm}");
 }

@@ -40,6 +40,8 @@ pub enum Command {
     Vertices(commands::vertices::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
+    /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
+    Label(commands::label::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
 }
@@ -73,6 +75,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::Label(a) => commands::label::run(a),
         Command::Bench(a) => commands::bench::run(a),
     }
 }

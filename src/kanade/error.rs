@@ -37,4 +37,8 @@ pub enum KanadeError {
         /// Second point.
         b: usize,
     },
+    /// The drawing has fewer than three directions of parallel lines, or they cannot depict
+    /// three perpendicular edges.
+    #[error("the drawing does not have three directions of parallel lines depicting perpendicular edges (Kanade's parallel-line and skewed-symmetry heuristics); gradients need a block drawing")]
+    NoGradientSpace,
 }

@@ -14,17 +14,24 @@
 mod blocks_catalog;
 mod catalog;
 mod error;
+mod gradient;
 mod graph;
 mod label;
 mod truth;
 mod waltz;
+mod words;
 
 pub use catalog::{rotations, Catalog, CatalogEntry, BLOCKS_EXTENSIONS, HUFFMAN_CLOWES};
 pub use error::KanadeError;
+pub use gradient::{
+    depth_rms_px, orthonormal_axes, recover_shape, surface_connection_graph, GradientSpace,
+    LinkKind, ShapeRecovery, SurfaceConnectionGraph, SurfaceLink,
+};
 pub use graph::{junction_sites, regions, validate, JunctionSite, LineEnd, Region};
 pub use label::{EndLabel, LabelSet, LineLabel};
-pub use truth::{check_labelling, labelling_from_kinds, Violation};
+pub use truth::{check_labelling, is_consistent, labelling_from_kinds, Violation};
 pub use waltz::{
     label_drawing, Combinations, JunctionReport, LabelOptions, LabelReport, LabellingCount,
     Progress, SearchStats,
 };
+pub use words::{computer_words, ComputerWords};

@@ -3,7 +3,7 @@
 //! catalog, junction by junction: how the labeller is measured on rendered scenes.
 
 use super::catalog::Catalog;
-use super::graph::{junction_sites, validate};
+use super::graph::{junction_sites, regions, validate};
 use super::label::{EndLabel, LineLabel};
 use super::KanadeError;
 use crate::drawing::{Junction, LineDrawing, LineKind};
@@ -37,11 +37,14 @@ pub fn labelling_from_kinds(d: &LineDrawing, block_centres_px: &[DVec2]) -> Opti
         .collect()
 }
 
-/// A junction where a labelling is not one of the catalog's.
+/// A junction where a labelling is not one of the catalog's, or an outer line that breaks the
+/// occluding-boundary constraint.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Violation {
-    /// Point index.
+    /// Point index (for an outer line, its first point).
     pub point: usize,
+    /// For an outer line that is not occluding clockwise (Appendix A step 2): the line.
+    pub line: Option<usize>,
     /// Junction class.
     pub junction: Junction,
     /// The labelling's labels at this junction in canonical order (PAIP letters).
@@ -50,17 +53,35 @@ pub struct Violation {
     pub uncatalogued: bool,
 }
 
-/// The junctions at which `labels` (one per line) is not a catalog labelling; empty when the
-/// labelling is one of those [`super::label_drawing`] finds (without `--boundary-occluding`).
-/// Junctions outside the catalog are listed with `uncatalogued: true` but do not make a
-/// labelling inconsistent.
+/// The junctions at which `labels` (one per line) is not a catalog labelling, and with
+/// `boundary_occluding` the outer lines that are not occluding clockwise. The labelling is one
+/// of those [`super::label_drawing`] finds with the same options exactly when every violation
+/// is `uncatalogued` (junctions outside the catalog constrain nothing).
 pub fn check_labelling(
     d: &LineDrawing,
     labels: &[LineLabel],
     catalog: Catalog,
+    boundary_occluding: bool,
 ) -> Result<Vec<Violation>, KanadeError> {
     validate(d)?;
     let mut out = Vec::new();
+    if boundary_occluding {
+        for r in regions(d).iter().filter(|r| r.is_outside()) {
+            for e in &r.walk {
+                if labels.get(e.line) != Some(&LineLabel::occluding(e.at_start)) {
+                    out.push(Violation {
+                        point: d.lines[e.line][0],
+                        line: Some(e.line),
+                        junction: Junction::Other,
+                        labels: labels
+                            .get(e.line)
+                            .map_or(String::new(), |l| l.symbol().into()),
+                        uncatalogued: false,
+                    });
+                }
+            }
+        }
+    }
     for s in junction_sites(d) {
         if s.ends.is_empty() {
             continue;
@@ -82,6 +103,7 @@ pub fn check_labelling(
         if uncatalogued || !rows.contains(&here) {
             out.push(Violation {
                 point: s.point,
+                line: None,
                 junction: s.junction,
                 labels: here.iter().map(|l| l.symbol()).collect(),
                 uncatalogued,
@@ -89,4 +111,10 @@ pub fn check_labelling(
         }
     }
     Ok(out)
+}
+
+/// Whether a labelling is among the consistent ones: no violation other than an uncatalogued
+/// junction.
+pub fn is_consistent(violations: &[Violation]) -> bool {
+    violations.iter().all(|v| v.uncatalogued)
 }

@@ -5,6 +5,7 @@ pub mod demo;
 pub mod edges;
 pub mod export;
 pub mod generate;
+pub mod label;
 pub mod merge;
 pub mod render;
 pub mod score;
