@@ -471,3 +471,96 @@ fn a_wrong_reference_depth_shows_in_the_rms() {
     let rms_mm = rms_px / px_per_mm(&cam);
     assert!((rms_mm - (1.0 / n as f64).sqrt()).abs() < 1e-6, "{rms_mm}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Bad input (the fuzz target `tests/fuzz/fuzz_targets/label.rs` runs the same calls)
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn random_drawings_never_panic_and_found_labellings_check() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2026);
+    let mut labelled = 0;
+    for _ in 0..400 {
+        let n = rng.random_range(0..24usize);
+        let points: Vec<DVec2> = (0..n)
+            .map(|_| match rng.random_range(0..40) {
+                0 => DVec2::new(f64::NAN, 1.0),
+                1 => DVec2::ZERO,
+                _ => DVec2::new(rng.random_range(0.0..100.0), rng.random_range(0.0..100.0)),
+            })
+            .collect();
+        let lines: Vec<[usize; 2]> = (0..rng.random_range(0..40usize))
+            .map(|_| [rng.random_range(0..n + 2), rng.random_range(0..n + 2)])
+            .collect();
+        let d = LineDrawing {
+            points,
+            lines,
+            ..Default::default()
+        };
+        for catalog in [Catalog::HuffmanClowes, Catalog::Blocks] {
+            let opts = LabelOptions {
+                catalog,
+                boundary_occluding: rng.random_bool(0.5),
+                limit: 3,
+                node_budget: 20_000,
+                ..Default::default()
+            };
+            let Ok(r) = label_drawing(&d, &opts, &mut |_| {}) else {
+                continue;
+            };
+            for l in &r.labellings {
+                let _ = recover_shape(&d, l);
+                if let Some(full) = l.iter().copied().collect::<Option<Vec<_>>>() {
+                    let v = check_labelling(&d, &full, catalog, opts.boundary_occluding).unwrap();
+                    assert!(is_consistent(&v), "{v:?}");
+                    labelled += 1;
+                }
+            }
+        }
+    }
+    assert!(labelled > 0, "some random drawings must be labellable");
+}
+
+#[test]
+fn a_large_drawing_is_capped_and_reports_a_lower_bound() {
+    // 40 cubes side by side in one picture: each cube alone has 4 labellings, so the count is
+    // 4^40; the independent groups make it exact, and the listing stops at the limit.
+    let f = fixture("paip_cube");
+    let mut d = LineDrawing::default();
+    for k in 0..40 {
+        let off = d.points.len();
+        d.points.extend(
+            f.drawing
+                .points
+                .iter()
+                .map(|p| *p + DVec2::new(300.0 * k as f64, 0.0)),
+        );
+        d.lines
+            .extend(f.drawing.lines.iter().map(|[a, b]| [a + off, b + off]));
+    }
+    let r = label_drawing(
+        &d,
+        &LabelOptions {
+            limit: 5,
+            ..Default::default()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(r.labellings.len(), 5);
+    assert!(r.count.exact);
+    assert_eq!(r.count.value, 4u128.pow(40));
+    // With a budget too small to decide every group, the count is a lower bound with a reason.
+    let r = label_drawing(
+        &d,
+        &LabelOptions {
+            limit: 5,
+            node_budget: 30,
+            ..Default::default()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    assert!(!r.count.exact && r.count.reason.is_some());
+}

@@ -42,6 +42,8 @@ pub enum Command {
     Export(commands::export::Args),
     /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
     Label(commands::label::Args),
+    /// Kanade's model against the modified model on the same drawings (thesis Figs. 6.17, 6.18).
+    Compare(commands::compare::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
 }
@@ -76,6 +78,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Label(a) => commands::label::run(a),
+        Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
     }
 }

@@ -453,30 +453,34 @@ fn line_labels(d: &LineDrawing, csp: &Csp, solution: &[u64]) -> Vec<Option<LineL
     out
 }
 
-/// Groups of undecided variables joined by lines (union by breadth-first search).
-fn groups(csp: &Csp, dom: &[u64]) -> Vec<Vec<usize>> {
-    let mut group = vec![usize::MAX; dom.len()];
+/// Groups of undecided variables among `candidates` joined by lines between undecided
+/// variables (breadth-first search).
+fn groups(csp: &Csp, dom: &[u64], candidates: &[usize]) -> Vec<Vec<usize>> {
+    let mut state = vec![0u8; dom.len()]; // 1 = candidate, 2 = placed
+    for &v in candidates {
+        if dom[v].count_ones() > 1 {
+            state[v] = 1;
+        }
+    }
     let mut out = Vec::new();
-    for start in 0..dom.len() {
-        if dom[start].count_ones() < 2 || group[start] != usize::MAX {
+    for &start in candidates {
+        if state[start] != 1 {
             continue;
         }
-        let id = out.len();
+        state[start] = 2;
         let mut members = vec![start];
-        group[start] = id;
         let mut i = 0;
         while i < members.len() {
             let v = members[i];
             i += 1;
-            for (_, other) in &csp.ends[v] {
-                if let Some((w, _)) = other {
-                    if dom[*w].count_ones() > 1 && group[*w] == usize::MAX {
-                        group[*w] = id;
-                        members.push(*w);
-                    }
+            for (w, _) in csp.ends[v].iter().filter_map(|(_, o)| *o) {
+                if state[w] == 1 {
+                    state[w] = 2;
+                    members.push(w);
                 }
             }
         }
+        members.sort_unstable();
         out.push(members);
     }
     out
@@ -485,59 +489,119 @@ fn groups(csp: &Csp, dom: &[u64]) -> Vec<Vec<usize>> {
 /// The search state of one group.
 struct GroupSearch<'a> {
     csp: &'a Csp,
-    members: &'a [usize],
-    limit: usize,
     budget: u64,
     stats: &'a mut SearchStats,
     progress: &'a mut dyn FnMut(Progress),
     group: usize,
     groups: usize,
-    found: u128,
     kept: Vec<Vec<u64>>,
+    listing_cut: bool,
     out_of_budget: bool,
 }
 
 impl GroupSearch<'_> {
-    /// PAIP's `search-solutions`: pick the undecided junction with the fewest labellings, try
-    /// each, propagate, recurse.
-    fn search(&mut self, dom: &[u64]) {
-        let next = self
-            .members
+    /// Counts one search node; false when the budget is spent.
+    fn step(&mut self) -> bool {
+        if self.stats.nodes >= self.budget {
+            self.out_of_budget = true;
+            return false;
+        }
+        self.stats.nodes += 1;
+        if self.stats.nodes % (1 << 14) == 0 {
+            (self.progress)(Progress {
+                nodes: self.stats.nodes,
+                group: self.group,
+                groups: self.groups,
+            });
+        }
+        true
+    }
+
+    /// The domains after trying labelling `e` at `v` and propagating; `None` on a dead end.
+    fn try_value(&mut self, dom: &[u64], v: usize, e: usize) -> Option<Vec<u64>> {
+        let mut d2 = dom.to_vec();
+        d2[v] = 1u64 << e;
+        if self
+            .csp
+            .propagate(&mut d2, vec![v], &mut self.stats.revisions)
+        {
+            Some(d2)
+        } else {
+            self.stats.backtracks += 1;
+            None
+        }
+    }
+
+    fn pick(dom: &[u64], members: &[usize]) -> Option<usize> {
+        members
             .iter()
             .copied()
             .filter(|v| dom[*v].count_ones() > 1)
-            .min_by_key(|v| (dom[*v].count_ones(), *v));
-        let Some(v) = next else {
-            self.found = self.found.saturating_add(1);
-            if self.kept.len() < self.limit {
-                self.kept
-                    .push(self.members.iter().map(|m| dom[*m]).collect());
+            .min_by_key(|v| (dom[*v].count_ones(), *v))
+    }
+
+    /// PAIP's `search-solutions` with the same decomposition as [`Self::count`]: up to `limit`
+    /// full domain vectors in which every member is decided. Independent groups are solved
+    /// apart, so one group without a solution ends the search at once.
+    fn solutions(&mut self, dom: &[u64], members: &[usize], limit: usize) -> Vec<Vec<u64>> {
+        let gs = groups(self.csp, dom, members);
+        match gs.len() {
+            0 => vec![dom.to_vec()],
+            1 => {
+                let Some(v) = Self::pick(dom, &gs[0]) else {
+                    return vec![dom.to_vec()];
+                };
+                let mut out = Vec::new();
+                for e in bits(dom[v]) {
+                    if out.len() >= limit || !self.step() {
+                        break;
+                    }
+                    if let Some(d2) = self.try_value(dom, v, e) {
+                        let more = self.solutions(&d2, &gs[0], limit - out.len());
+                        out.extend(more);
+                    }
+                }
+                out
             }
-            return;
-        };
-        for e in bits(dom[v]) {
-            if self.stats.nodes >= self.budget {
-                self.out_of_budget = true;
-                return;
+            _ => {
+                let mut per: Vec<Vec<Vec<u64>>> = Vec::new();
+                for g in &gs {
+                    let sols = self.solutions(dom, g, limit);
+                    if sols.is_empty() {
+                        return Vec::new();
+                    }
+                    per.push(sols);
+                }
+                combine(dom, &gs, &per, limit)
             }
-            self.stats.nodes += 1;
-            if self.stats.nodes % (1 << 14) == 0 {
-                (self.progress)(Progress {
-                    nodes: self.stats.nodes,
-                    group: self.group,
-                    groups: self.groups,
-                });
+        }
+    }
+
+    /// The number of solutions of `members`: once the undecided ones fall apart into groups no
+    /// line joins, the product of the groups' counts (so independent ambiguities multiply
+    /// instead of being enumerated).
+    fn count(&mut self, dom: &[u64], members: &[usize]) -> u128 {
+        let gs = groups(self.csp, dom, members);
+        match gs.len() {
+            0 => 1,
+            1 => {
+                let Some(v) = Self::pick(dom, &gs[0]) else {
+                    return 1;
+                };
+                let mut total = 0u128;
+                for e in bits(dom[v]) {
+                    if !self.step() {
+                        return total;
+                    }
+                    if let Some(d2) = self.try_value(dom, v, e) {
+                        total = total.saturating_add(self.count(&d2, &gs[0]));
+                    }
+                }
+                total
             }
-            let mut d2 = dom.to_vec();
-            d2[v] = 1u64 << e;
-            if self
-                .csp
-                .propagate(&mut d2, vec![v], &mut self.stats.revisions)
-            {
-                self.search(&d2);
-            } else {
-                self.stats.backtracks += 1;
-            }
+            _ => gs
+                .iter()
+                .fold(1u128, |acc, g| acc.saturating_mul(self.count(dom, g))),
         }
     }
 }
@@ -551,7 +615,8 @@ fn enumerate(
     stats: &mut SearchStats,
     progress: &mut dyn FnMut(Progress),
 ) -> (Vec<Vec<u64>>, LabellingCount) {
-    let gs = groups(csp, dom);
+    let all: Vec<usize> = (0..dom.len()).collect();
+    let gs = groups(csp, dom, &all);
     stats.groups = gs.len();
     let mut count = LabellingCount {
         value: 1,
@@ -562,18 +627,28 @@ fn enumerate(
     for (g, members) in gs.iter().enumerate() {
         let mut s = GroupSearch {
             csp,
-            members,
-            limit: opts.limit.max(1),
             budget: opts.node_budget,
             stats: &mut *stats,
             progress: &mut *progress,
             group: g,
             groups: gs.len(),
-            found: 0,
             kept: Vec::new(),
+            listing_cut: false,
             out_of_budget: false,
         };
-        s.search(dom);
+        let limit = opts.limit.max(1);
+        let sols = s.solutions(dom, members, limit + 1);
+        s.listing_cut = sols.len() > limit;
+        s.kept = sols
+            .into_iter()
+            .take(limit)
+            .map(|d| members.iter().map(|m| d[*m]).collect())
+            .collect();
+        let found = if s.listing_cut && !s.out_of_budget {
+            s.count(dom, members)
+        } else {
+            s.kept.len() as u128
+        };
         if s.out_of_budget && count.exact {
             count.exact = false;
             count.reason = Some(format!(
@@ -583,7 +658,7 @@ fn enumerate(
                 gs.len()
             ));
         }
-        count.value = count.value.saturating_mul(s.found);
+        count.value = count.value.saturating_mul(found);
         per_group.push(std::mem::take(&mut s.kept));
     }
     if count.value == u128::MAX && count.exact {
@@ -608,8 +683,13 @@ fn combine(
     while out.len() < limit {
         let mut s = dom.to_vec();
         for (g, members) in gs.iter().enumerate() {
+            let sol = &per_group[g][idx[g]];
             for (k, v) in members.iter().enumerate() {
-                s[*v] = per_group[g][idx[g]][k];
+                s[*v] = if sol.len() == dom.len() {
+                    sol[*v]
+                } else {
+                    sol[k]
+                };
             }
         }
         out.push(s);

@@ -1,6 +1,7 @@
 //! One file per subcommand: clap `Args` plus `run`.
 
 pub mod bench;
+pub mod compare;
 pub mod demo;
 pub mod edges;
 pub mod export;
