@@ -187,11 +187,11 @@ impl Catalog {
 }
 
 /// The rotations of the canonical order that the geometry does not fix: all of them for a
-/// fork, X, straight and five or more lines (whose order starts at the lowest angle), a half
-/// turn for psi, none for L, arrow, T and K.
+/// fork, X and straight (whose order starts at the lowest angle), a half turn for psi, none for
+/// L, arrow, T, K and five or more lines (which start after the widest gap).
 pub fn rotations(junction: Junction, n: usize) -> Vec<usize> {
     match junction {
-        Junction::Fork | Junction::X | Junction::Straight | Junction::Other => (0..n).collect(),
+        Junction::Fork | Junction::X | Junction::Straight => (0..n).collect(),
         Junction::Psi => vec![0, 2],
         _ => vec![0],
     }
@@ -237,7 +237,18 @@ mod tests {
             let hc = Catalog::HuffmanClowes.labellings(j, n);
             let b = Catalog::Blocks.labellings(j, n);
             assert!(hc.iter().all(|x| b.contains(x)));
-            assert!(b.len() < 64, "domains are 64-bit masks");
+        }
+        // Every class fits the labeller's 128-bit domains (rotations included).
+        for row in Catalog::Blocks.rows() {
+            let n = Catalog::Blocks
+                .labellings(row.junction, row.labels.len())
+                .len();
+            assert!(
+                n <= 128,
+                "{:?} of {} lines: {n}",
+                row.junction,
+                row.labels.len()
+            );
         }
         assert!(Catalog::Blocks.size(Junction::Psi) >= 1);
     }

@@ -23,7 +23,8 @@ pub struct LineEnd {
 /// - fork: clockwise;
 /// - `T`: the bar's two halves, then the stem; turning counterclockwise, bar 1 → stem → bar 2;
 /// - `K`: counterclockwise from the half of the collinear pair that has both others before its
-///   partner; psi, `X`, straight and the rest: counterclockwise from the lowest angle.
+///   partner; five and more lines: counterclockwise from the line after the widest gap; psi,
+///   `X`, straight and the rest: counterclockwise from the lowest angle.
 ///
 /// With these orders PAIP's tables (ch. 17) read as written: its cube's free-floating labelling
 /// is the one whose arrows run clockwise around the outline.
@@ -130,11 +131,24 @@ fn opposite_pair_start(v: &[DVec2]) -> usize {
     let (i, j, _) = best;
     // Counterclockwise from i, the lines strictly between i and j are j - i - 1; the other
     // lines lie on the other side.
-    if j - i - 1 >= n - 2 - (j - i - 1) {
+    let between = j - i - 1;
+    let others = n - 2 - between;
+    if between >= others {
         i
     } else {
         j
     }
+}
+
+/// The index (in a counterclockwise list) of the line that follows the widest angle between
+/// neighbours, the first such on a tie.
+fn after_largest_gap(v: &[DVec2]) -> usize {
+    let n = v.len();
+    let gap = |k: usize| {
+        let (a, b) = (angle(v[(k + n - 1) % n]), angle(v[k]));
+        (b - a).rem_euclid(std::f64::consts::TAU)
+    };
+    (0..n).fold(0, |best, k| if gap(k) > gap(best) { k } else { best })
 }
 
 fn canonical(junction: Junction, ccw: &[LineEnd], v: &[DVec2]) -> Vec<LineEnd> {
@@ -164,6 +178,7 @@ fn canonical(junction: Junction, ccw: &[LineEnd], v: &[DVec2]) -> Vec<LineEnd> {
             vec![r[0], r[2], r[1]]
         }
         Junction::K => rot(opposite_pair_start(v)),
+        Junction::Other if ccw.len() > 4 => rot(after_largest_gap(v)),
         _ => ccw.to_vec(),
     }
 }

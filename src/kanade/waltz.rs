@@ -142,6 +142,9 @@ pub struct LabelReport {
     pub stats: SearchStats,
 }
 
+/// The variable and end position at a line's other end, when that junction is catalogued.
+type Neighbour = Option<(usize, usize)>;
+
 /// The constraint problem: catalogued junctions as variables.
 struct Csp {
     /// Per variable: its site index.
@@ -149,23 +152,30 @@ struct Csp {
     /// Per variable, per catalog labelling, the whole-line label of each end.
     cand: Vec<Vec<Vec<LineLabel>>>,
     /// Per variable, per end: (line, the variable and end position at the line's other end).
-    ends: Vec<Vec<(usize, Option<(usize, usize)>)>>,
+    ends: Vec<Vec<(usize, Neighbour)>>,
     /// Per line: labels allowed by the boundary constraint.
     allowed: Vec<LabelSet>,
     /// Per variable: labellings allowed by `ground` (a mask).
-    unary: Vec<u64>,
+    unary: Vec<Mask>,
 }
 
-fn full_mask(n: usize) -> u64 {
-    if n >= 64 {
-        u64::MAX
+/// A domain: bit `k` set while catalog labelling `k` is possible.
+type Mask = u128;
+
+/// Most labellings a junction class may have (the bits of [`Mask`]); a larger class would
+/// count as outside the catalog.
+const MAX_DOMAIN: usize = Mask::BITS as usize;
+
+fn full_mask(n: usize) -> Mask {
+    if n >= MAX_DOMAIN {
+        Mask::MAX
     } else {
-        (1u64 << n) - 1
+        (1 << n) - 1
     }
 }
 
-fn bits(mask: u64) -> impl Iterator<Item = usize> {
-    (0..64).filter(move |i| mask & (1u64 << i) != 0)
+fn bits(mask: Mask) -> impl Iterator<Item = usize> {
+    (0..MAX_DOMAIN).filter(move |i| mask & (1 << i) != 0)
 }
 
 impl Csp {
@@ -175,7 +185,7 @@ impl Csp {
         let mut cand = Vec::new();
         for s in sites {
             let rows = catalog.labellings(s.junction, s.ends.len());
-            if rows.is_empty() || rows.len() > 64 {
+            if rows.is_empty() || rows.len() > MAX_DOMAIN {
                 continue;
             }
             var_of[s.point] = Some(site.len());
@@ -224,7 +234,7 @@ impl Csp {
     }
 
     /// Labels that variable `v`'s live labellings give its end `k`.
-    fn support(&self, dom: &[u64], v: usize, k: usize) -> LabelSet {
+    fn support(&self, dom: &[Mask], v: usize, k: usize) -> LabelSet {
         let mut s = LabelSet::default();
         for e in bits(dom[v]) {
             s.insert(self.cand[v][e][k]);
@@ -233,7 +243,7 @@ impl Csp {
     }
 
     /// Removes `v`'s labellings that a neighbour or an allowed set cannot match.
-    fn revise(&self, dom: &mut [u64], v: usize) -> bool {
+    fn revise(&self, dom: &mut [Mask], v: usize) -> bool {
         let supports: Vec<LabelSet> = self.ends[v]
             .iter()
             .map(|(line, other)| match other {
@@ -248,14 +258,14 @@ impl Csp {
                 .zip(&supports)
                 .all(|(l, s)| s.contains(*l));
             if !ok {
-                dom[v] &= !(1u64 << e);
+                dom[v] &= !(1 << e);
             }
         }
         dom[v] != before
     }
 
     /// Arc consistency from the variables in `queue` (AC-3); false when a domain empties.
-    fn propagate(&self, dom: &mut [u64], mut queue: Vec<usize>, revisions: &mut u64) -> bool {
+    fn propagate(&self, dom: &mut [Mask], mut queue: Vec<usize>, revisions: &mut u64) -> bool {
         let mut queued = vec![false; dom.len()];
         for &v in &queue {
             queued[v] = true;
@@ -282,7 +292,7 @@ impl Csp {
 }
 
 /// The catalog domains with `ground` and the boundary constraint applied, before filtering.
-fn initial_domains(csp: &Csp) -> Vec<u64> {
+fn initial_domains(csp: &Csp) -> Vec<Mask> {
     (0..csp.cand.len())
         .map(|v| {
             let mut m = csp.unary[v];
@@ -292,7 +302,7 @@ fn initial_domains(csp: &Csp) -> Vec<u64> {
                     .zip(&csp.ends[v])
                     .all(|(l, (line, _))| csp.allowed[*line].contains(*l));
                 if !ok {
-                    m &= !(1u64 << e);
+                    m &= !(1 << e);
                 }
             }
             m
@@ -331,7 +341,7 @@ fn apply_line_constraints(
         };
         for e in bits(csp.unary[v]) {
             if csp.cand[v][e][k] != LineLabel::Concave {
-                csp.unary[v] &= !(1u64 << e);
+                csp.unary[v] &= !(1 << e);
             }
         }
     }
@@ -395,8 +405,8 @@ pub fn label_drawing(
 fn junction_reports(
     sites: &[JunctionSite],
     csp: &Csp,
-    initial: &[u64],
-    dom: &[u64],
+    initial: &[Mask],
+    dom: &[Mask],
 ) -> Vec<JunctionReport> {
     sites
         .iter()
@@ -432,7 +442,7 @@ fn free_lines(d: &LineDrawing, csp: &Csp) -> Vec<usize> {
 }
 
 /// Every line's label under one solution (one live labelling per variable).
-fn line_labels(d: &LineDrawing, csp: &Csp, solution: &[u64]) -> Vec<Option<LineLabel>> {
+fn line_labels(d: &LineDrawing, csp: &Csp, solution: &[Mask]) -> Vec<Option<LineLabel>> {
     let mut out: Vec<Option<LineLabel>> = csp
         .allowed
         .iter()
@@ -455,7 +465,7 @@ fn line_labels(d: &LineDrawing, csp: &Csp, solution: &[u64]) -> Vec<Option<LineL
 
 /// Groups of undecided variables among `candidates` joined by lines between undecided
 /// variables (breadth-first search).
-fn groups(csp: &Csp, dom: &[u64], candidates: &[usize]) -> Vec<Vec<usize>> {
+fn groups(csp: &Csp, dom: &[Mask], candidates: &[usize]) -> Vec<Vec<usize>> {
     let mut state = vec![0u8; dom.len()]; // 1 = candidate, 2 = placed
     for &v in candidates {
         if dom[v].count_ones() > 1 {
@@ -494,7 +504,7 @@ struct GroupSearch<'a> {
     progress: &'a mut dyn FnMut(Progress),
     group: usize,
     groups: usize,
-    kept: Vec<Vec<u64>>,
+    kept: Vec<Vec<Mask>>,
     listing_cut: bool,
     out_of_budget: bool,
 }
@@ -518,9 +528,9 @@ impl GroupSearch<'_> {
     }
 
     /// The domains after trying labelling `e` at `v` and propagating; `None` on a dead end.
-    fn try_value(&mut self, dom: &[u64], v: usize, e: usize) -> Option<Vec<u64>> {
+    fn try_value(&mut self, dom: &[Mask], v: usize, e: usize) -> Option<Vec<Mask>> {
         let mut d2 = dom.to_vec();
-        d2[v] = 1u64 << e;
+        d2[v] = 1 << e;
         if self
             .csp
             .propagate(&mut d2, vec![v], &mut self.stats.revisions)
@@ -532,7 +542,7 @@ impl GroupSearch<'_> {
         }
     }
 
-    fn pick(dom: &[u64], members: &[usize]) -> Option<usize> {
+    fn pick(dom: &[Mask], members: &[usize]) -> Option<usize> {
         members
             .iter()
             .copied()
@@ -543,7 +553,7 @@ impl GroupSearch<'_> {
     /// PAIP's `search-solutions` with the same decomposition as [`Self::count`]: up to `limit`
     /// full domain vectors in which every member is decided. Independent groups are solved
     /// apart, so one group without a solution ends the search at once.
-    fn solutions(&mut self, dom: &[u64], members: &[usize], limit: usize) -> Vec<Vec<u64>> {
+    fn solutions(&mut self, dom: &[Mask], members: &[usize], limit: usize) -> Vec<Vec<Mask>> {
         let gs = groups(self.csp, dom, members);
         match gs.len() {
             0 => vec![dom.to_vec()],
@@ -564,7 +574,7 @@ impl GroupSearch<'_> {
                 out
             }
             _ => {
-                let mut per: Vec<Vec<Vec<u64>>> = Vec::new();
+                let mut per: Vec<Vec<Vec<Mask>>> = Vec::new();
                 for g in &gs {
                     let sols = self.solutions(dom, g, limit);
                     if sols.is_empty() {
@@ -580,7 +590,7 @@ impl GroupSearch<'_> {
     /// The number of solutions of `members`: once the undecided ones fall apart into groups no
     /// line joins, the product of the groups' counts (so independent ambiguities multiply
     /// instead of being enumerated).
-    fn count(&mut self, dom: &[u64], members: &[usize]) -> u128 {
+    fn count(&mut self, dom: &[Mask], members: &[usize]) -> u128 {
         let gs = groups(self.csp, dom, members);
         match gs.len() {
             0 => 1,
@@ -610,11 +620,11 @@ impl GroupSearch<'_> {
 /// product of the groups' counts, the first `limit` solutions listed in odometer order.
 fn enumerate(
     csp: &Csp,
-    dom: &[u64],
+    dom: &[Mask],
     opts: &LabelOptions,
     stats: &mut SearchStats,
     progress: &mut dyn FnMut(Progress),
-) -> (Vec<Vec<u64>>, LabellingCount) {
+) -> (Vec<Vec<Mask>>, LabellingCount) {
     let all: Vec<usize> = (0..dom.len()).collect();
     let gs = groups(csp, dom, &all);
     stats.groups = gs.len();
@@ -623,7 +633,7 @@ fn enumerate(
         exact: true,
         reason: None,
     };
-    let mut per_group: Vec<Vec<Vec<u64>>> = Vec::new();
+    let mut per_group: Vec<Vec<Vec<Mask>>> = Vec::new();
     for (g, members) in gs.iter().enumerate() {
         let mut s = GroupSearch {
             csp,
@@ -670,11 +680,11 @@ fn enumerate(
 
 /// The first `limit` full solutions of the product of the groups' solutions.
 fn combine(
-    dom: &[u64],
+    dom: &[Mask],
     gs: &[Vec<usize>],
-    per_group: &[Vec<Vec<u64>>],
+    per_group: &[Vec<Vec<Mask>>],
     limit: usize,
-) -> Vec<Vec<u64>> {
+) -> Vec<Vec<Mask>> {
     if per_group.iter().any(|p| p.is_empty()) {
         return Vec::new();
     }
