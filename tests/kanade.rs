@@ -564,3 +564,33 @@ fn a_large_drawing_is_capped_and_reports_a_lower_bound() {
     .unwrap();
     assert!(!r.count.exact && r.count.reason.is_some());
 }
+
+#[test]
+fn counting_by_groups_agrees_with_listing_every_labelling() {
+    // The count (independent groups, remembered group counts) against plain enumeration.
+    for name in ["two_cubes_touching", "row", "two_layer"] {
+        let s = read_scene(Path::new(&format!("scenes/{name}.json"))).unwrap();
+        let (d, _) = truth(&s, CornerView::Ne);
+        let opts = |limit| LabelOptions {
+            catalog: Catalog::Blocks,
+            boundary_occluding: true,
+            limit,
+            ..Default::default()
+        };
+        let counted = label_drawing(&d, &opts(2), &mut |_| {}).unwrap();
+        let listed = label_drawing(&d, &opts(100_000), &mut |_| {}).unwrap();
+        assert!(counted.count.exact && listed.count.exact, "{name}");
+        assert!(counted.count.value > 2, "{name}: the count path must run");
+        assert_eq!(
+            counted.count.value,
+            listed.labellings.len() as u128,
+            "{name}"
+        );
+        let distinct: std::collections::BTreeSet<_> = listed.labellings.iter().collect();
+        assert_eq!(
+            distinct.len(),
+            listed.labellings.len(),
+            "{name}: no labelling twice"
+        );
+    }
+}

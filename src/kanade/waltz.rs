@@ -496,6 +496,9 @@ fn groups(csp: &Csp, dom: &[Mask], candidates: &[usize]) -> Vec<Vec<usize>> {
     out
 }
 
+/// At most this many group counts are remembered per top-level group (about 100 MB at most).
+const CACHE_ENTRIES: usize = 200_000;
+
 /// The search state of one group.
 struct GroupSearch<'a> {
     csp: &'a Csp,
@@ -507,6 +510,9 @@ struct GroupSearch<'a> {
     kept: Vec<Vec<Mask>>,
     listing_cut: bool,
     out_of_budget: bool,
+    /// Counts of groups already met, by their members' domains (a group's count depends on
+    /// nothing else: its neighbours outside are decided and filtered).
+    cache: std::collections::HashMap<Vec<(usize, Mask)>, u128>,
 }
 
 impl GroupSearch<'_> {
@@ -531,9 +537,14 @@ impl GroupSearch<'_> {
     fn try_value(&mut self, dom: &[Mask], v: usize, e: usize) -> Option<Vec<Mask>> {
         let mut d2 = dom.to_vec();
         d2[v] = 1 << e;
+        // Filter from v's neighbours: v itself lost labellings, so they may lose theirs.
+        let queue: Vec<usize> = self.csp.ends[v]
+            .iter()
+            .filter_map(|(_, o)| o.map(|o| o.0))
+            .collect();
         if self
             .csp
-            .propagate(&mut d2, vec![v], &mut self.stats.revisions)
+            .propagate(&mut d2, queue, &mut self.stats.revisions)
         {
             Some(d2)
         } else {
@@ -598,6 +609,10 @@ impl GroupSearch<'_> {
                 let Some(v) = Self::pick(dom, &gs[0]) else {
                     return 1;
                 };
+                let key: Vec<(usize, Mask)> = gs[0].iter().map(|m| (*m, dom[*m])).collect();
+                if let Some(n) = self.cache.get(&key) {
+                    return *n;
+                }
                 let mut total = 0u128;
                 for e in bits(dom[v]) {
                     if !self.step() {
@@ -606,6 +621,9 @@ impl GroupSearch<'_> {
                     if let Some(d2) = self.try_value(dom, v, e) {
                         total = total.saturating_add(self.count(&d2, &gs[0]));
                     }
+                }
+                if !self.out_of_budget && self.cache.len() < CACHE_ENTRIES {
+                    self.cache.insert(key, total);
                 }
                 total
             }
@@ -645,6 +663,7 @@ fn enumerate(
             kept: Vec::new(),
             listing_cut: false,
             out_of_budget: false,
+            cache: std::collections::HashMap::new(),
         };
         let limit = opts.limit.max(1);
         let sols = s.solutions(dom, members, limit + 1);
