@@ -5,9 +5,9 @@
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
-    check_labelling, depth_rms_px, is_consistent, junction_sites, label_drawing,
-    labelling_from_kinds, recover_shape, rotations, Catalog, EndLabel, LabelOptions, LabelReport,
-    LineLabel,
+    check_labelling, depth_rms_px, gradient_label_sets, is_consistent, junction_sites,
+    label_drawing, labelling_from_kinds, recover_shape, rotations, Catalog, EndLabel, LabelOptions,
+    LabelReport, LineLabel,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Camera, CameraOptions, CornerView};
@@ -592,5 +592,29 @@ fn counting_by_groups_agrees_with_listing_every_labelling() {
             listed.labellings.len(),
             "{name}: no labelling twice"
         );
+    }
+}
+
+#[test]
+fn the_gradient_check_keeps_the_true_labels_and_refuses_a_crack_between_faces() {
+    for name in ["single_cube", "two_layer", "thesis_sample"] {
+        let s = read_scene(Path::new(&format!("scenes/{name}.json"))).unwrap();
+        for view in VIEWS {
+            let (d, labels) = truth(&s, view);
+            let sets = gradient_label_sets(&d).unwrap();
+            for (i, l) in labels.iter().enumerate() {
+                assert!(sets[i].contains(*l), "{name} {view:?} line {i} {l:?}");
+            }
+        }
+    }
+    // The cube's three inner lines join faces of different gradients: never a crack.
+    let f = fixture("paip_cube");
+    let sets = gradient_label_sets(&f.drawing).unwrap();
+    let a = f.point("a");
+    for (i, &[p, q]) in f.drawing.lines.iter().enumerate() {
+        if p == a || q == a {
+            assert!(!sets[i].contains(LineLabel::Crack));
+            assert!(sets[i].contains(LineLabel::Convex) && sets[i].contains(LineLabel::Concave));
+        }
     }
 }

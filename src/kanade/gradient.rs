@@ -24,7 +24,7 @@
 //!   `G . (a_i u_i) = w_i`, `G . (a_j u_j) = w_j`.
 
 use super::graph::{regions, validate, LineEnd, Region};
-use super::label::LineLabel;
+use super::label::{LabelSet, LineLabel};
 use super::KanadeError;
 use crate::drawing::{LineDrawing, COLLINEAR_TOL_DEG};
 use crate::geom::{DVec2, DVec3};
@@ -249,42 +249,52 @@ pub fn surface_connection_graph(
     })
 }
 
-/// How many convex and concave links a set of gradients breaks, and how many cracks join
-/// different gradients. A convex edge with surface `a` on its left: walking into `a` (the
-/// left normal `m`), `a` falls behind the plane of `b`: `(G_a - G_b) . m < 0`; concave `> 0`.
+/// Whether gradients `ga` (the region on the left of a line with unit picture direction `t`)
+/// and `gb` (on its right) fit a link: convex when, walking into `a` (the left normal `m`),
+/// `a` falls behind the plane of `b`: `(G_a - G_b) . m < 0` with `G_a - G_b` perpendicular to
+/// the line (Mackworth's rule; Appendix A step 3); concave `> 0`; a crack joins equal
+/// gradients; an occlusion fits any.
+fn link_fits(kind: LinkKind, ga: DVec2, gb: DVec2, t: DVec2) -> bool {
+    let diff = ga - gb;
+    let along = diff.dot(t).abs() <= 1e-3;
+    let s = diff.dot(t.perp());
+    match kind {
+        LinkKind::Convex => along && s < -1e-6,
+        LinkKind::Concave => along && s > 1e-6,
+        LinkKind::Crack => diff.length() <= 1e-3,
+        LinkKind::Occluding => true,
+    }
+}
+
+fn unit_direction(d: &LineDrawing, line: usize) -> DVec2 {
+    let [p, q] = d.lines[line];
+    (d.points[q] - d.points[p]).normalize()
+}
+
+/// How many links a set of gradients breaks (convex, concave and crack links).
 fn count_inconsistent(d: &LineDrawing, scg: &SurfaceConnectionGraph, g: &[Option<DVec2>]) -> usize {
-    let tol = 1e-6;
     scg.links
         .iter()
-        .filter(|l| {
-            let (Some(ga), Some(gb)) = (g[l.a], g[l.b]) else {
-                return false;
-            };
-            let [p, q] = d.lines[l.line];
-            let t = (d.points[q] - d.points[p]).normalize();
-            let m = t.perp(); // left normal
-            let s = (ga - gb).dot(m);
-            match l.kind {
-                LinkKind::Convex => s >= -tol || (ga - gb).dot(t).abs() > 1e-3,
-                LinkKind::Concave => s <= tol || (ga - gb).dot(t).abs() > 1e-3,
-                LinkKind::Crack => (ga - gb).length() > 1e-3,
-                LinkKind::Occluding => false,
-            }
+        .filter(|l| match (g[l.a], g[l.b]) {
+            (Some(ga), Some(gb)) => !link_fits(l.kind, ga, gb, unit_direction(d, l.line)),
+            _ => false,
         })
         .count()
 }
 
-/// Gradients of the surfaces: from the two families of parallel lines bounding each surface.
-fn surface_gradients(
-    scg: &SurfaceConnectionGraph,
+/// Gradients of the regions marked `eligible`: from the two families of parallel lines
+/// bounding each.
+fn region_gradients(
+    regions: &[Region],
+    eligible: &[bool],
     family: &[Option<usize>],
     space: &GradientSpace,
 ) -> Vec<Option<DVec2>> {
-    scg.regions
+    regions
         .iter()
-        .enumerate()
-        .map(|(r, reg)| {
-            if !scg.surface[r] {
+        .zip(eligible)
+        .map(|(reg, ok)| {
+            if !ok {
                 return None;
             }
             let mut fams: Vec<usize> = reg.walk.iter().filter_map(|e| family[e.line]).collect();
@@ -296,6 +306,57 @@ fn surface_gradients(
             }
         })
         .collect()
+}
+
+fn surface_gradients(
+    scg: &SurfaceConnectionGraph,
+    family: &[Option<usize>],
+    space: &GradientSpace,
+) -> Vec<Option<DVec2>> {
+    region_gradients(&scg.regions, &scg.surface, family, space)
+}
+
+/// Appendix A step 3 as a filter on line labels before the search: for each line between two
+/// regions whose gradients the heuristics give, the labels whose link the gradients fit
+/// ([`link_fits`]) under either Necker reading, occluding labels always. `None` when the
+/// drawing has no gradient space. The drawing must be valid.
+pub fn gradient_label_sets(d: &LineDrawing) -> Option<Vec<LabelSet>> {
+    let regs = regions(d);
+    let side = region_of_half_edges(&regs, d.lines.len());
+    let (family, dirs) = parallel_families(d);
+    let u: [DVec2; 3] = match dirs[..] {
+        [a, b, c] => [a, b, c],
+        _ => return None,
+    };
+    let inside: Vec<bool> = regs.iter().map(|r| !r.is_outside()).collect();
+    let mut out = vec![LabelSet::default(); d.lines.len()];
+    let mut any = false;
+    for space in [1.0, -1.0]
+        .into_iter()
+        .filter_map(|s| orthonormal_axes(u, s))
+    {
+        any = true;
+        let g = region_gradients(&regs, &inside, &family, &space);
+        for (line, set) in out.iter_mut().enumerate() {
+            set.insert(LineLabel::OccludingForward);
+            set.insert(LineLabel::OccludingBackward);
+            let (Some(ga), Some(gb)) = (g[side[2 * line]], g[side[2 * line + 1]]) else {
+                *set = LabelSet::ANY;
+                continue;
+            };
+            let t = unit_direction(d, line);
+            for (kind, label) in [
+                (LinkKind::Convex, LineLabel::Convex),
+                (LinkKind::Concave, LineLabel::Concave),
+                (LinkKind::Crack, LineLabel::Crack),
+            ] {
+                if link_fits(kind, ga, gb, t) {
+                    set.insert(label);
+                }
+            }
+        }
+    }
+    any.then_some(out)
 }
 
 /// Recovers the shape of a labelling (Chapter II; Appendix A step 3): the SCG, the gradient

@@ -24,8 +24,8 @@ mod words;
 pub use catalog::{rotations, Catalog, CatalogEntry, BLOCKS_EXTENSIONS, HUFFMAN_CLOWES};
 pub use error::KanadeError;
 pub use gradient::{
-    depth_rms_px, orthonormal_axes, recover_shape, surface_connection_graph, GradientSpace,
-    LinkKind, ShapeRecovery, SurfaceConnectionGraph, SurfaceLink,
+    depth_rms_px, gradient_label_sets, orthonormal_axes, recover_shape, surface_connection_graph,
+    GradientSpace, LinkKind, ShapeRecovery, SurfaceConnectionGraph, SurfaceLink,
 };
 pub use graph::{junction_sites, regions, validate, JunctionSite, LineEnd, Region};
 pub use label::{EndLabel, LabelSet, LineLabel};

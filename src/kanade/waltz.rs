@@ -28,6 +28,10 @@ pub struct LabelOptions {
     /// PAIP's `ground`: `[a, b]` keeps only junction `a`'s labellings that make the line from
     /// point `a` to point `b` concave (`-`), a block resting on the ground.
     pub ground: Vec<[usize; 2]>,
+    /// Appendix A step 3 before the search: a line between two surfaces whose gradients the
+    /// heuristics give may only take labels those gradients fit (under either Necker reading).
+    /// Default off.
+    pub gradient_check: bool,
     /// At most this many labellings are listed (the count goes on); default 100.
     pub limit: usize,
     /// The search stops after this many nodes and reports its count as a lower bound; default
@@ -40,6 +44,7 @@ impl Default for LabelOptions {
         LabelOptions {
             catalog: Catalog::HuffmanClowes,
             boundary_occluding: false,
+            gradient_check: false,
             ground: Vec::new(),
             limit: 100,
             node_budget: 5_000_000,
@@ -310,7 +315,7 @@ fn initial_domains(csp: &Csp) -> Vec<Mask> {
         .collect()
 }
 
-/// Appendix A step 2 and PAIP's `ground`, as constraints on `csp`.
+/// Appendix A steps 2 and 3 and PAIP's `ground`, as constraints on `csp`.
 fn apply_line_constraints(
     d: &LineDrawing,
     sites: &[JunctionSite],
@@ -323,6 +328,13 @@ fn apply_line_constraints(
                 // The outside is on the left of this walk, so the face is on its right.
                 let l = LineLabel::occluding(e.at_start);
                 csp.allowed[e.line].0 &= LabelSet::only(l).0;
+            }
+        }
+    }
+    if opts.gradient_check {
+        if let Some(sets) = super::gradient::gradient_label_sets(d) {
+            for (allowed, set) in csp.allowed.iter_mut().zip(sets) {
+                allowed.0 &= set.0;
             }
         }
     }

@@ -37,6 +37,23 @@ pub struct Args {
     pub repeat: usize,
 }
 
+/// The models compared: the trihedral catalog as the thesis's count is made (step 2 only), and
+/// Kanade's full model on blocks (steps 2 and 3), then the blocks catalog without step 3.
+const MODELS: [Model; 3] = [
+    Model {
+        catalog: Catalog::HuffmanClowes,
+        gradient_check: false,
+    },
+    Model {
+        catalog: Catalog::Blocks,
+        gradient_check: true,
+    },
+    Model {
+        catalog: Catalog::Blocks,
+        gradient_check: false,
+    },
+];
+
 /// One thesis case: its file, its name in Figure 6.17, and the thesis's numbers.
 struct ThesisCase {
     file: &'static str,
@@ -93,18 +110,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for case in &CASES {
         let path = args.scenes.join(case.file);
         let scene = read_scene(&path).with_context(|| format!("reading {}", path.display()))?;
-        for (k, catalog) in [Catalog::HuffmanClowes, Catalog::Blocks]
-            .into_iter()
-            .enumerate()
-        {
-            let m = measure(&scene, view, catalog, args.repeat.max(1))
+        for (k, model) in MODELS[..2].iter().enumerate() {
+            let m = measure(&scene, view, *model, args.repeat.max(1))
                 .with_context(|| format!("measuring {}", path.display()))?;
             rows[k].push((case, scene.clone(), m));
         }
     }
     print_words_table(&rows[1]);
-    print_search_table(&rows[0], Catalog::HuffmanClowes);
-    print_search_table(&rows[1], Catalog::Blocks);
+    print_search_table(&rows[0], MODELS[0]);
+    print_search_table(&rows[1], MODELS[1]);
     if let Some(dir) = &args.suite {
         run_suite(dir)?;
     }
@@ -172,9 +186,28 @@ fn px_per_mm(cam: &Camera) -> f64 {
     cam.size_px[0] as f64 / 2.0 * cam.clip_from_view[0]
 }
 
-fn options(catalog: Catalog) -> LabelOptions {
+/// Kanade's model as run here: a catalog, the outer boundary occluding (Appendix A step 2),
+/// and optionally the gradient check of step 3 before the search.
+#[derive(Debug, Clone, Copy)]
+struct Model {
+    catalog: Catalog,
+    gradient_check: bool,
+}
+
+impl Model {
+    fn name(self) -> String {
+        if self.gradient_check {
+            format!("{} + gradient check", self.catalog.name())
+        } else {
+            self.catalog.name().to_string()
+        }
+    }
+}
+
+fn options(model: Model) -> LabelOptions {
     LabelOptions {
-        catalog,
+        catalog: model.catalog,
+        gradient_check: model.gradient_check,
         boundary_occluding: true,
         limit: 20,
         node_budget: 200_000,
@@ -186,8 +219,8 @@ type Chosen = (Vec<Option<LineLabel>>, Option<ShapeRecovery>);
 
 /// Kanade's steps on one drawing: label, then choose the labelling whose gradients break the
 /// fewest links (Appendix A step 3; the first on a tie) and recover its shape.
-fn kanade(d: &LineDrawing, catalog: Catalog) -> anyhow::Result<(LabelReport, Option<Chosen>)> {
-    let report = label_drawing(d, &options(catalog), &mut |_| {})?;
+fn kanade(d: &LineDrawing, model: Model) -> anyhow::Result<(LabelReport, Option<Chosen>)> {
+    let report = label_drawing(d, &options(model), &mut |_| {})?;
     let mut best: Option<(usize, Chosen)> = None;
     for l in &report.labellings {
         let rec = recover_shape(d, l).ok();
@@ -209,9 +242,10 @@ fn median_us(mut v: Vec<f64>) -> f64 {
 fn measure(
     scene: &Scene,
     view: CornerView,
-    catalog: Catalog,
+    model: Model,
     repeat: usize,
 ) -> anyhow::Result<Measured> {
+    let catalog = model.catalog;
     let cam = camera(scene, view);
     let drawing = visible_line_drawing(scene, &cam);
     let (truth, truth_ends) = truth_of(scene, &cam, &drawing);
@@ -219,7 +253,7 @@ fn measure(
     let mut result = None;
     for _ in 0..repeat {
         let t = Instant::now();
-        result = Some(kanade(&drawing, catalog)?);
+        result = Some(kanade(&drawing, model)?);
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
     let (report, chosen) = result.context("no run")?;
@@ -265,7 +299,7 @@ fn vs(measured: String, thesis: String) -> String {
 }
 
 fn print_words_table(rows: &[(&ThesisCase, Scene, Measured)]) {
-    println!("\nFigure 6.17, computer words (the labelling Kanade's model settles on with the blocks catalog; rules in README \"Kanade's model\"):\n");
+    println!("\nFigure 6.17, computer words (the labelling Kanade's model settles on: blocks catalog, gradient check; rules in README \"Kanade's model\"):\n");
     let mut head = "| words |".to_string();
     let mut sep = "|---|".to_string();
     for (c, _, _) in rows {
@@ -308,8 +342,8 @@ fn print_words_table(rows: &[(&ThesisCase, Scene, Measured)]) {
     println!("{line}");
 }
 
-fn print_search_table(rows: &[(&ThesisCase, Scene, Measured)], catalog: Catalog) {
-    println!("\nFigure 6.18, labels searched, time and accuracy ({} catalog, outer boundary occluding; median of the timed runs):\n", catalog.name());
+fn print_search_table(rows: &[(&ThesisCase, Scene, Measured)], model: Model) {
+    println!("\nFigure 6.18, labels searched, time and accuracy ({}, outer boundary occluding; median of the timed runs):\n", model.name());
     println!("| scene | Kanade: combinations after the initial constraint | after Waltz filtering | search nodes | consistent labellings | true labelling among them | six-bit: line look-ups (vertices x 6) | Kanade µs (label + SCG + gradients) | six-bit coding µs | recognizer ms | Kanade 3D RMS mm (up to depth) | modified model 3D |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (c, scene, m) in rows {
@@ -360,12 +394,13 @@ struct SuiteRow {
     ms: f64,
 }
 
-fn suite_row(scene: &Scene, view: CornerView, catalog: Catalog) -> anyhow::Result<SuiteRow> {
+fn suite_row(scene: &Scene, view: CornerView, model: Model) -> anyhow::Result<SuiteRow> {
+    let catalog = model.catalog;
     let cam = camera(scene, view);
     let d = visible_line_drawing(scene, &cam);
     let (truth, ends) = truth_of(scene, &cam, &d);
     let t = Instant::now();
-    let (report, chosen) = kanade(&d, catalog)?;
+    let (report, chosen) = kanade(&d, model)?;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let truth_found = match &truth {
         Some(t) => is_consistent(&check_labelling(&d, t, catalog, true)?),
@@ -408,19 +443,19 @@ fn run_suite(dir: &Path) -> anyhow::Result<()> {
     println!("\nSuite {} ({} scenes x 4 views, exact drawings; outer boundary occluding; counts capped at 200,000 search nodes):\n", dir.display(), files.len());
     println!("| catalog | drawings | true labelling among the consistent ones | exactly one labelling | none | labellings: median / max (exact counts) | count only a lower bound | drawings with junctions outside the catalog | chosen labelling = truth | Kanade 3D RMS mm: median / max (drawings) | ms per drawing |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for catalog in [Catalog::HuffmanClowes, Catalog::Blocks] {
+    for model in MODELS {
         let mut rows = Vec::new();
         for f in &files {
             let scene = read_scene(f).with_context(|| format!("reading {}", f.display()))?;
             for view in views {
-                rows.push(suite_row(&scene, view, catalog)?);
+                rows.push(suite_row(&scene, view, model)?);
             }
         }
         print_suite_line(
-            &format!("{} (supported scenes)", catalog.name()),
+            &format!("{} (supported scenes)", model.name()),
             rows.iter().filter(|r| r.supported),
         );
-        print_suite_line(&format!("{} (all scenes)", catalog.name()), rows.iter());
+        print_suite_line(&format!("{} (all scenes)", model.name()), rows.iter());
     }
     Ok(())
 }

@@ -21,6 +21,9 @@ pub struct Args {
     /// Appendix A step 2: the outer boundary is occluding, its arrows clockwise.
     #[arg(long)]
     pub boundary_occluding: bool,
+    /// Appendix A step 3: lines between surfaces take only the labels their gradients fit.
+    #[arg(long)]
+    pub gradient_check: bool,
     /// Junction catalog: `huffman-clowes` (PAIP's 18 trihedral labellings) or `blocks`.
     #[arg(long, default_value = "huffman-clowes", value_parser = parse_catalog)]
     pub catalog: Catalog,
@@ -42,6 +45,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = LabelOptions {
         catalog: args.catalog,
         boundary_occluding: args.boundary_occluding,
+        gradient_check: args.gradient_check,
         limit: args.limit,
         node_budget: args.node_budget,
         ..Default::default()
