@@ -174,6 +174,25 @@ pub fn combinations_text(c: &crate::kanade::Combinations) -> String {
     }
 }
 
+/// One line per junction: its class, lines in canonical order, and catalog labellings before
+/// and after filtering.
+fn junction_lines(r: &LabelReport) -> String {
+    let mut t = String::new();
+    for j in r.junctions.iter().filter(|j| !j.lines.is_empty()) {
+        let dom = match (j.domain_before, j.domain_after) {
+            (Some(a), Some(b)) => format!("{a} -> {b}"),
+            _ => "not in catalog".into(),
+        };
+        t += &format!(
+            "  point {:>4}  {:<8} lines {:?}  labellings {dom}\n",
+            j.point,
+            format!("{:?}", j.junction),
+            j.lines
+        );
+    }
+    t
+}
+
 fn report_text(path: &Path, d: &LineDrawing, r: &LabelReport, elapsed_ms: f64) -> String {
     let mut t = format!(
         "{}: {} points, {} lines; catalog {}\n",
@@ -198,18 +217,7 @@ fn report_text(path: &Path, d: &LineDrawing, r: &LabelReport, elapsed_ms: f64) -
             format!("points {:?}", r.uncatalogued)
         }
     );
-    for j in r.junctions.iter().filter(|j| !j.lines.is_empty()) {
-        let dom = match (j.domain_before, j.domain_after) {
-            (Some(a), Some(b)) => format!("{a} -> {b}"),
-            _ => "not in catalog".into(),
-        };
-        t += &format!(
-            "  point {:>4}  {:<8} lines {:?}  labellings {dom}\n",
-            j.point,
-            format!("{:?}", j.junction),
-            j.lines
-        );
-    }
+    t += &junction_lines(r);
     t += &format!(
         "combinations: {} before filtering, {} after\n",
         combinations_text(&r.stats.combinations_before),
