@@ -1,7 +1,7 @@
 //! Geometry conventions shared by every stage.
 //!
 //! * World units are **millimetres**; axes are right-handed with **+y up**, the floor is the
-//!   plane y = 0, **+x is east** and **-z is north** (issue #2, scene-file contract).
+//!   plane y = 0, **+x is east** and **-z is north** (README "Conventions").
 //! * Picture coordinates are **pixels, x right, y up**, with (0, 0) the bottom-left corner of the
 //!   picture and pixel centres at +0.5 (the GPU viewport transform with y flipped). A raster row
 //!   `r` (0 at the top) has its centres at `y_px = height_px - r - 0.5`.
@@ -15,13 +15,20 @@ pub use glam::{DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2, Vec3, 
 /// Contact tolerance in millimetres: two faces closer than this (and parallel) count as
 /// touching, and a penetration shallower than this is not an overlap. Settled rapier poses sit
 /// 0.03 mm into their supports with the stiff contact parameters used in `physics`, so the
-/// same tolerance serves validation, ground truth and settling (see `shared/notes/ground-truth.md`).
+/// same tolerance serves validation, ground truth and settling (README "Conventions").
 pub const CONTACT_TOL_MM: f64 = 0.05;
 
-/// The exact isometric elevation, atan(1/sqrt(2)) = 35.26438968 degrees. The issue's
-/// "35.264" is a rounding of this angle; using the rounded value makes coincident points drift
-/// 0.001 px apart (`shared/notes/ground-truth.md`).
+/// The exact isometric elevation, atan(1/sqrt(2)) = 35.26438968 degrees. "35.264" is a
+/// rounding of this angle; using the rounded value makes coincident points drift 0.001 px
+/// apart (README "Conventions").
 pub const ISOMETRIC_ELEVATION_DEG: f64 = 35.264_389_682_754_654;
+
+/// The heading of a rotation: the angle of the turned local +x axis about +y, degrees
+/// (counter-clockwise seen from above, the sense of `yaw_deg` in scene files); tilt ignored.
+pub fn heading_deg(q: DQuat) -> f64 {
+    let x = q * DVec3::X;
+    (-x.z).atan2(x.x).to_degrees()
+}
 
 /// Converts a unit quaternion to the yaw about +y in degrees, if the rotation is a pure yaw
 /// (within `tol_deg` of the y axis); `None` for any tilt.
@@ -31,8 +38,52 @@ pub fn pure_yaw_deg(q: Quat, tol_deg: f64) -> Option<f64> {
     if up.angle_between(DVec3::Y).to_degrees() > tol_deg {
         return None;
     }
-    let x = q * DVec3::X;
-    Some((-x.z).atan2(x.x).to_degrees())
+    Some(heading_deg(q))
+}
+
+/// Axis-aligned bounds (min, max) of `points`; `None` when there are none.
+pub fn bounds3(points: impl IntoIterator<Item = DVec3>) -> Option<(DVec3, DVec3)> {
+    points.into_iter().fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+    })
+}
+
+/// Axis-aligned bounds (min, max) of picture points; `None` when there are none.
+pub fn bounds2(points: impl IntoIterator<Item = DVec2>) -> Option<(DVec2, DVec2)> {
+    points.into_iter().fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+    })
+}
+
+/// Disjoint sets over `0..n` with path halving; a union keeps the smaller index as the root,
+/// so the sets' representatives do not depend on the order of unions (deterministic output).
+#[derive(Debug, Clone)]
+pub struct UnionFind(Vec<usize>);
+
+impl UnionFind {
+    /// `n` singletons.
+    pub fn new(n: usize) -> UnionFind {
+        UnionFind((0..n).collect())
+    }
+
+    /// The representative of `i`'s set.
+    pub fn find(&mut self, mut i: usize) -> usize {
+        while self.0[i] != i {
+            self.0[i] = self.0[self.0[i]];
+            i = self.0[i];
+        }
+        i
+    }
+
+    /// Joins the sets of `a` and `b`.
+    pub fn union(&mut self, a: usize, b: usize) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            self.0[a.max(b)] = a.min(b);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -43,6 +94,17 @@ mod tests {
     fn isometric_angle_is_atan_of_inverse_sqrt2() {
         let exact = (1.0f64 / 2f64.sqrt()).atan().to_degrees();
         assert!((exact - ISOMETRIC_ELEVATION_DEG).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bounds_and_sets() {
+        let b = bounds3([DVec3::new(1.0, -2.0, 3.0), DVec3::new(-1.0, 5.0, 0.0)]).unwrap();
+        assert_eq!(b, (DVec3::new(-1.0, -2.0, 0.0), DVec3::new(1.0, 5.0, 3.0)));
+        assert!(bounds2(std::iter::empty()).is_none());
+        let mut u = UnionFind::new(4);
+        u.union(3, 1);
+        u.union(2, 3);
+        assert_eq!((u.find(2), u.find(3), u.find(0)), (1, 1, 0));
     }
 
     #[test]

@@ -5,14 +5,16 @@
 //! flows one way, following the thesis's flow chart (Figure 5.3):
 //!
 //! `scene` → `physics` (rapier3d settling) → `render` (wgpu views + exact ground truth) →
-//! `vision` (Sobel, least-squares lines, six-bit codes) → (`recognize` → `csg`, the next wave)
-//! → `score` (parry3d volume overlap); `export` writes glTF. `dataset` produces synthetic
-//! datasets at scale; `cli` is the command line. Conventions (units, axes, picture coordinates)
-//! live in [`geom`]. Every public item is documented (`missing_docs` is a lint error in CI).
+//! `vision` (Sobel, least-squares lines, six-bit codes) → `recognize` → `csg` → `score` (parry3d
+//! volume overlap); `export` writes glTF and the thesis's data files. Every stage maps pixels
+//! to the world through the one [`camera`]. `dataset` produces synthetic datasets at scale; the
+//! command line lives in the binary (`src/main.rs`), so the library carries no clap, anyhow or
+//! indicatif. Conventions (units, axes, picture coordinates) live in [`geom`]. Every public item
+//! is documented (`missing_docs` is a lint error in CI).
 
 #![warn(missing_docs)]
 
-pub mod cli;
+pub mod camera;
 pub mod dataset;
 pub mod drawing;
 pub mod export;

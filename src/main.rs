@@ -1,6 +1,9 @@
-//! The `blockworld` binary: everything happens in `blockworld::cli` (parse, run, print the error
-//! chain once, exit non-zero on error).
+//! The `blockworld` binary: the command line (`cli`: clap arguments, anyhow context, progress
+//! bars) over the library's stages. It parses, runs one subcommand, prints the error chain once
+//! and exits 2 on error (README "How to run").
+
+mod cli;
 
 fn main() -> std::process::ExitCode {
-    blockworld::cli::main()
+    cli::main()
 }

@@ -8,23 +8,16 @@
 //!   1 / [`DEPTH_UNITS_PER_MM`] mm steps, 0 = nothing seen.
 //! * `ids_<v>.png`: 16-bit grayscale, block index + 1, 0 = floor or background.
 //! * `lines_<v>.json`: [`crate::drawing::LineDrawing::to_json`].
-//! * `camera_<v>.json`: the serde [`crate::render::Camera`] plus `depth_units_per_mm` and
+//! * `camera_<v>.json`: the serde [`crate::camera::Camera`] plus `depth_units_per_mm` and
 //!   `picture`, the picture-coordinate convention in words.
 
+use crate::camera::camera_json;
 use crate::io::write_atomic;
-use crate::render::{Camera, RenderedView, DEPTH_UNITS_PER_MM};
+use crate::render::RenderedView;
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ExtendedColorType, ImageEncoder};
 use sha2::{Digest, Sha256};
 use std::path::Path;
-
-/// The picture-coordinate convention written into every `camera_<v>.json`.
-pub const PICTURE_CONVENTION: &str = "picture px: x right, y up, origin at the bottom-left \
-corner of the picture, pixel centres at +0.5; PNG row r (0 at the top) has its centres at \
-y = height - r - 0.5. Project a world point (mm) with clip = clip_from_view * view_from_world \
-* [x, y, z, 1] (column-major), ndc = clip.xyz / clip.w, x_px = (ndc.x + 1) / 2 * width, \
-y_px = (ndc.y + 1) / 2 * height; depth PNG value = round(depth along the optical axis in mm \
-* depth_units_per_mm)";
 
 /// A file written: its name inside the directory and the sha256 of its bytes (hex).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -65,28 +58,6 @@ pub fn write_rendered_views(
     Ok(written)
 }
 
-/// `camera_<v>.json`: the camera's fields in their declared order, then the depth scale and
-/// the picture convention.
-#[derive(serde::Serialize)]
-struct CameraFile<'a> {
-    #[serde(flatten)]
-    camera: &'a Camera,
-    depth_units_per_mm: f64,
-    picture: &'static str,
-}
-
-/// `camera_<v>.json`: the camera plus the depth scale and the picture convention.
-pub fn camera_json(camera: &Camera) -> String {
-    let file = CameraFile {
-        camera,
-        depth_units_per_mm: DEPTH_UNITS_PER_MM,
-        picture: PICTURE_CONVENTION,
-    };
-    let mut s = serde_json::to_string_pretty(&file).expect("camera serializes");
-    s.push('\n');
-    s
-}
-
 /// PNG bytes of an 8-bit gray image (fast compression, adaptive filter).
 pub fn encode_png_gray8(img: &image::GrayImage) -> std::io::Result<Vec<u8>> {
     encode_png(
@@ -114,8 +85,9 @@ fn encode_png(bytes: &[u8], w: u32, h: u32, color: ExtendedColorType) -> std::io
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::{parse_camera_json, Camera, CameraOptions, CornerView};
     use crate::drawing::LineDrawing;
-    use crate::render::{CameraOptions, CornerView, Gray16Image};
+    use crate::render::Gray16Image;
     use image::{GrayImage, Luma};
 
     fn view() -> RenderedView {
@@ -176,7 +148,7 @@ mod tests {
         assert_eq!(cam["depth_units_per_mm"], 16.0);
         assert_eq!(cam["view"], "se");
         assert!(cam["picture"].as_str().unwrap().contains("y up"));
-        let back: Camera = serde_json::from_value(cam).unwrap_or_else(|e| panic!("{e}"));
+        let back = parse_camera_json(&cam.to_string()).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(back, v.camera);
         // Nothing else (no temporaries) in the directory.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 5);

@@ -1,4 +1,4 @@
-//! The accuracy gate CI enforces (issue #4): the committed suite (`scenes/bench/`) scored with
+//! The accuracy gate CI enforces (README "Scoring and the accuracy suite"): the committed suite (`scenes/bench/`) scored with
 //! the committed reference reconstructions (`golden/recon_reference/`) must not regress
 //! against `golden/accuracy.json`: no scene's IoU more than 0.01 below golden, no supported
 //! scene that stops being recognized, no known failure case that stops being flagged.
@@ -8,11 +8,12 @@
 //! `cargo run -- bench accuracy --make-reference golden/recon_reference`.
 
 use blockworld::scene::{
-    read_reconstruction, read_scene, scene_to_json, Block, ReconStatus, Scene,
+    read_reconstruction, read_scene, reconstruction_to_json, Block, ReconStatus, Reconstruction,
+    Scene,
 };
 use blockworld::score::{
     check_gate, make_reference_reconstructions, score_suite_scene, GateFailure, Golden,
-    SceneResult, ScoreOptions, Verdict, BLESS_COMMAND,
+    NoReconstruction, SceneResult, ScoreOptions, Verdict, BLESS_COMMAND,
 };
 use std::path::{Path, PathBuf};
 
@@ -45,7 +46,7 @@ fn suite() -> Vec<(String, Scene)> {
         .collect()
 }
 
-fn reference_set() -> Vec<(String, Scene)> {
+fn reference_set() -> Vec<(String, Reconstruction)> {
     json_files(&root(REFERENCE_DIR))
         .iter()
         .map(|p| {
@@ -57,7 +58,7 @@ fn reference_set() -> Vec<(String, Scene)> {
         .collect()
 }
 
-fn score_all(suite: &[(String, Scene)], recons: &[(String, Scene)]) -> Vec<SceneResult> {
+fn score_all(suite: &[(String, Scene)], recons: &[(String, Reconstruction)]) -> Vec<SceneResult> {
     suite
         .iter()
         .map(|(id, truth)| {
@@ -65,7 +66,7 @@ fn score_all(suite: &[(String, Scene)], recons: &[(String, Scene)]) -> Vec<Scene
                 .iter()
                 .find(|(rid, _)| rid == id)
                 .map(|(_, s)| s)
-                .ok_or_else(|| format!("no reconstruction for {id}"));
+                .ok_or_else(|| NoReconstruction(format!("no reconstruction for {id}")));
             score_suite_scene(id, truth, recon, &ScoreOptions::default())
         })
         .collect()
@@ -86,7 +87,7 @@ fn suite_covers_the_families_and_the_failure_cases() {
         .collect();
     families.sort();
     families.dedup();
-    // The generator's families (issue #3), the Chapter VII failure cases included.
+    // The generator's families (README "Settling and datasets"), the Chapter VII failure cases included.
     for f in [
         "single",
         "row",
@@ -143,7 +144,7 @@ fn reference_set_is_what_its_generator_makes() {
         let text = std::fs::read_to_string(root(REFERENCE_DIR).join(format!("{id}.json"))).unwrap();
         assert_eq!(
             text,
-            scene_to_json(recon),
+            reconstruction_to_json(recon),
             "{id} differs; regenerate with: cargo run -- bench accuracy --make-reference {REFERENCE_DIR}"
         );
     }
@@ -229,7 +230,7 @@ fn gate_fails_on_a_worse_reconstruction_set() {
         .unwrap()
         .id
         .clone();
-    let worse: Vec<(String, Scene)> = reference
+    let worse: Vec<(String, Reconstruction)> = reference
         .iter()
         .map(|(id, recon)| {
             let mut r = recon.clone();
@@ -245,7 +246,7 @@ fn gate_fails_on_a_worse_reconstruction_set() {
             } else if *id == emptied {
                 r.blocks.clear();
             } else if *id == unsupported {
-                r.status = Some(ReconStatus::Ok);
+                r.status = ReconStatus::Ok;
                 r.blocks = suite
                     .iter()
                     .find(|(sid, _)| sid == id)
@@ -279,7 +280,7 @@ fn gate_fails_on_a_worse_reconstruction_set() {
         _ => false,
     }));
     // A missing reconstruction file is a failure too.
-    let fewer: Vec<(String, Scene)> = reference
+    let fewer: Vec<(String, Reconstruction)> = reference
         .iter()
         .filter(|(id, _)| *id != shifted)
         .cloned()

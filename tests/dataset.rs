@@ -1,4 +1,4 @@
-//! `blockworld generate` and `blockworld merge` end to end (issue #3 "Done when"): every family
+//! `blockworld generate` and `blockworld merge` end to end (README "Settling and datasets"): every family
 //! yields scenes; the same seed gives the same bytes whatever `--jobs`; shards merge into the
 //! unsharded dataset; a run killed midway resumes to a byte-identical dataset.
 //!
@@ -219,6 +219,50 @@ fn shards_from_the_array_job_environment() {
     assert_eq!(manifest(&ds).len(), 5);
 }
 
+/// Regression: `merge` panicked (remainder by zero) on a stray `manifest.shard-0-of-0.jsonl`,
+/// and allocated per scene the count that `dataset.json` claims (10^12 aborted, 2^64-1
+/// overflowed) before checking anything. Both now end in an error that names the file.
+#[test]
+fn merge_names_stray_shards_and_distrusts_a_huge_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    generate(&ds, 3, &["--views", "", "--shard", "0/2"]);
+    generate(&ds, 3, &["--views", "", "--shard", "1/2"]);
+    let stray = ds.join("manifest.shard-0-of-0.jsonl");
+    std::fs::write(&stray, "{}\n").unwrap();
+    let out = blockworld(&["merge", ds.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("manifest.shard-0-of-0.jsonl") && !err.contains("panicked"),
+        "{err}"
+    );
+    std::fs::remove_file(&stray).unwrap();
+    let path = ds.join("dataset.json");
+    let original = std::fs::read_to_string(&path).unwrap();
+    for claim in ["1000000000000", "18446744073709551615", "-1"] {
+        let mut v: serde_json::Value = serde_json::from_str(&original).unwrap();
+        v["count"] = serde_json::from_str(claim).unwrap();
+        std::fs::write(&path, v.to_string()).unwrap();
+        let started = std::time::Instant::now();
+        let out = blockworld(&["merge", ds.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "count {claim}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("dataset.json") || err.contains("missing"),
+            "{err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        // Not a timing target: a guard that the merge did not walk 10^12 slots.
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "count {claim} took too long"
+        );
+    }
+    std::fs::write(&path, original).unwrap();
+    ok(blockworld(&["merge", ds.to_str().unwrap()]));
+}
+
 #[test]
 fn a_run_killed_midway_resumes_to_the_same_bytes() {
     let tmp = tempfile::tempdir().unwrap();
@@ -320,7 +364,7 @@ impl Drop for TinyDisk {
     }
 }
 
-/// Issue #3 "Nothing lost": a full disk stops the run with an error that names the file, leaves
+/// Nothing lost: a full disk stops the run with an error that names the file, leaves
 /// no half-written file under a final name and no temporary file, and the same command, re-run
 /// once there is space, resumes to the bytes of an uninterrupted run.
 #[test]
@@ -460,7 +504,7 @@ fn rendered_shards_merge_and_resume() {
 
 /// Runs `scripts/slurm_generate.sh` as a real Slurm array job (3 tasks), merges the shards and
 /// compares with an unsharded run. Skipped (loudly) unless a Slurm cluster answers `sinfo`;
-/// `shared/notes/slurm.md` sets one up on a single machine.
+/// README "Settling and datasets" sets one up on a single machine.
 #[test]
 fn a_slurm_array_job_writes_shards_that_merge() {
     let up = Command::new("sinfo")
@@ -468,7 +512,7 @@ fn a_slurm_array_job_writes_shards_that_merge() {
         .output()
         .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
     if !up {
-        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see shared/notes/slurm.md");
+        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see README \"Settling and datasets\"");
         return;
     }
     let tmp = tempfile::tempdir().unwrap();

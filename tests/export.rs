@@ -142,7 +142,7 @@ fn check_mesh_against_catalog(mesh: &gltf::Mesh, gltf: &gltf::Gltf, bin: Option<
         );
     }
     let (positions, indices, normal_count) = read_primitive(prim, gltf, bin);
-    let want_triangles: usize = t.faces.iter().map(|f| f.len() - 2).sum();
+    let want_triangles: usize = t.faces().iter().map(|f| f.len() - 2).sum();
     assert_eq!(indices.len(), 3 * want_triangles, "{}", t.id);
     assert_eq!(normal_count, positions.len());
     let volume_m3: f64 = indices

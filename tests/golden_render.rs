@@ -1,4 +1,4 @@
-//! Whole-renderer tests (issue #2): golden images of every example scene, gray levels of the
+//! Whole-renderer tests (README "Rendering"): golden images of every example scene, gray levels of the
 //! faces, the seam between touching blocks, depth and ids against an exact ray cast, noise,
 //! MSAA, perspective, odd picture widths, sharing one renderer across threads.
 //!
@@ -7,17 +7,17 @@
 
 mod common;
 
+use blockworld::camera::{Camera, CornerView, Projection, DEPTH_UNITS_PER_MM};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::render::{
-    Backend, Camera, CornerView, Projection, RenderError, RenderOptions, RenderedView, Renderer,
-    BACKGROUND_LEVEL, DEPTH_UNITS_PER_MM, SEAM_LEVEL,
+    Backend, RenderError, RenderOptions, RenderedView, Renderer, BACKGROUND_LEVEL, SEAM_LEVEL,
 };
 use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, Tolerance};
 use rayon::prelude::*;
 
 /// Golden tolerance: exact. lavapipe renders bit-identically from run to run, across debug and
-/// release, and llvmpipe-GL matches it (`shared/notes/wgpu-lavapipe.md`); what bounds it is the
+/// release, and llvmpipe-GL matches it (README "Dependencies"); what bounds it is the
 /// Mesa/LLVM version of the machine that blessed the goldens (golden/README.md). Loosen only
 /// with a written reason, e.g. a Mesa update that moves rasterization by a sub-pixel step.
 const GOLDEN_TOLERANCE: Tolerance = Tolerance {
@@ -156,7 +156,7 @@ fn single_cube_top_left_right_and_floor_have_distinct_levels_in_every_view() {
         // The visible faces, projected; left/right by the picture x of their centres.
         let mut sides = Vec::new();
         let mut top = Vec::new();
-        for (f, face) in block.block_type.faces.iter().enumerate() {
+        for (f, face) in block.block_type.faces().iter().enumerate() {
             let n = block.world_face_normal(f);
             if n.dot(c.towards_eye()) <= 0.0 {
                 continue;
@@ -332,7 +332,7 @@ fn ray_hit(scene: &Scene, c: &Camera, o: DVec3, d: DVec3) -> Option<(u16, f64)> 
     for (i, b) in scene.blocks.iter().enumerate() {
         let v = b.world_vertices();
         let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
-        for (f, face) in b.block_type.faces.iter().enumerate() {
+        for (f, face) in b.block_type.faces().iter().enumerate() {
             let n = b.world_face_normal(f);
             let denom = n.dot(d);
             let num = n.dot(v[face[0] as usize] - o);

@@ -1,10 +1,11 @@
-//! Issue #2: every ground-truth visible line lies on an intensity edge of the rendered image, and
+//! Every ground-truth visible line lies on an intensity edge of the rendered image, and
 //! no rendered intensity edge lacks a line. The drawing comes from geometry (`render::truth`),
 //! the picture from wgpu on lavapipe, so this ties the two together, seams included.
 
+use blockworld::camera::CornerView;
 use blockworld::drawing::LineDrawing;
 use blockworld::geom::DVec3;
-use blockworld::render::{CornerView, RenderOptions};
+use blockworld::render::RenderOptions;
 use blockworld::scene::{read_scene, Block, Scene};
 use image::GrayImage;
 

@@ -1,13 +1,13 @@
-//! Whole-scene tests of the exact visible line drawing (issue #2, `render::truth`): the small
-//! cases of `shared/notes/ground-truth.md` (NE view, orthographic, exact isometric elevation),
+//! Whole-scene tests of the exact visible line drawing (README "Rendering", `render::truth`): the small
+//! cases of README "The exact line drawing" (NE view, orthographic, exact isometric elevation),
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
 
+use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::{Junction, LineDrawing, LineKind};
 use blockworld::geom::{DQuat, DVec2, DVec3};
 use blockworld::render::truth::visible_line_drawing;
-use blockworld::render::{Camera, CameraOptions, CornerView, Projection};
-use blockworld::scene::{Block, BlockType, Orientation, Scene, CATALOG};
+use blockworld::scene::{Block, BlockType, ConvexPolyhedron, Orientation, Scene, Shape, CATALOG};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
@@ -96,7 +96,7 @@ fn b15_on_b30() -> Scene {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Small cases of shared/notes/ground-truth.md
+// Small cases of README "The exact line drawing"
 // ---------------------------------------------------------------------------------------------
 
 #[test]
@@ -170,7 +170,7 @@ fn two_b15_stacked_show_the_upper_bottom_edges_as_cracks() {
         for e in cracks {
             assert_eq!(e.block, 1, "{msg}");
             assert_eq!(e.other_block, Some(0), "{msg}");
-            let local = s.blocks[1].block_type.vertices_mm;
+            let local = s.blocks[1].block_type.vertices_mm();
             assert!(e.vertices.iter().all(|&v| local[v][1] < 0.0), "{msg}");
             assert!((e.from_mm[1] - 15.0).abs() < 1e-9 && (e.to_mm[1] - 15.0).abs() < 1e-9);
         }
@@ -276,8 +276,10 @@ static WEDGE_FACES: [&[u8]; 6] = [
 static WEDGE: BlockType = BlockType {
     id: "wedge_test",
     name: "test wedge",
-    vertices_mm: &WEDGE_VERTICES,
-    faces: &WEDGE_FACES,
+    shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+        vertices_mm: &WEDGE_VERTICES,
+        faces: &WEDGE_FACES,
+    }),
 };
 
 fn wedge_at(center: [f64; 3], yaw_deg: f64) -> Block {
@@ -292,9 +294,9 @@ fn wedge_at(center: [f64; 3], yaw_deg: f64) -> Block {
 fn hand_made_wedge_is_drawn_like_a_convex_polyhedron() {
     assert!(WEDGE.cuboid_half_extents_mm().is_none(), "not a cuboid");
     // Outward normals: every vertex behind every face.
-    for f in 0..WEDGE.faces.len() {
+    for f in 0..WEDGE.faces().len() {
         let n = WEDGE.face_normal(f);
-        let p0 = DVec3::from_array(WEDGE.vertices_mm[WEDGE.faces[f][0] as usize]);
+        let p0 = DVec3::from_array(WEDGE.vertices_mm()[WEDGE.faces()[f][0] as usize]);
         assert!(WEDGE.vertices().all(|v| n.dot(v - p0) <= 1e-9));
     }
     // NE view: top, slope and the north trapezoid meet in a fork, like a cube.
@@ -452,10 +454,10 @@ fn block_planes(s: &Scene) -> Vec<Vec<(DVec3, f64)>> {
         .iter()
         .map(|b| {
             let v = b.world_vertices();
-            (0..b.block_type.faces.len())
+            (0..b.block_type.faces().len())
                 .map(|f| {
                     let n = b.world_face_normal(f);
-                    (n, n.dot(v[b.block_type.faces[f][0] as usize]))
+                    (n, n.dot(v[b.block_type.faces()[f][0] as usize]))
                 })
                 .collect()
         })

@@ -1,15 +1,15 @@
-//! Whole-stage tests of the vision front end (issue #5) on pictures drawn here: boxes are ray
+//! Whole-stage tests of the vision front end (README "Vision front end") on pictures drawn here: boxes are ray
 //! cast through the real `Camera`, each visible face filled with a flat gray level by its
 //! orientation, and the pixels within half a pixel of the visible face's projected edges
 //! darkened (the renderer's ~1 px seams). The true vertices are the projected box corners, known
 //! exactly. These tests need no GPU; `blockworld bench vision` measures on real renders.
 
-use blockworld::drawing::{Junction, LineDrawing};
+use blockworld::camera::{Camera, CameraOptions, CornerView};
+use blockworld::drawing::{EdgeAxis, Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
-use blockworld::render::{Camera, CameraOptions, CornerView};
 use blockworld::vision::{
-    decode_gray, detect_line_drawing, detect_with_directions, match_vertices, picture_directions,
-    EdgeDirection, VisionError, VisionOptions,
+    decode_gray, detect_line_drawing, detect_with_directions, isometric_edge_directions,
+    match_vertices, picture_directions, VisionError, VisionOptions,
 };
 use image::{GrayImage, Luma};
 use rand::{Rng, SeedableRng};
@@ -223,7 +223,7 @@ fn one_cube_in_every_view_matches_the_exact_drawing_within_one_pixel() {
 
 #[test]
 fn two_cubes_side_by_side_and_stacked_give_ten_points_fourteen_lines_two_ts() {
-    // shared/notes/ground-truth.md: 10 points, 14 lines, 2 T junctions in every view.
+    // README "The exact line drawing": 10 points, 14 lines, 2 T junctions in every view.
     let side = [cube(-7.5, 0.0, 0.0, 15.0), cube(7.5, 0.0, 0.0, 15.0)];
     let stacked = [cube(0.0, 0.0, 0.0, 15.0), cube(0.0, 15.0, 0.0, 15.0)];
     for boxes in [&side[..], &stacked[..]] {
@@ -341,8 +341,7 @@ fn crc32(bytes: &[u8]) -> u32 {
 #[test]
 fn random_small_pictures_never_panic() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let dirs =
-        [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)].map(EdgeDirection::Parallel);
+    let dirs = isometric_edge_directions();
     for i in 0..400 {
         let (w, h) = (rng.random_range(0..48u32), rng.random_range(0..48u32));
         let img = match i % 4 {
@@ -374,7 +373,7 @@ fn random_small_pictures_never_panic() {
     }
     // Camera-derived directions are unit vectors pointing up or right.
     let camera = camera_for(&[cube(0.0, 0.0, 0.0, 15.0)], CornerView::Se);
-    for d in picture_directions(&camera) {
+    for d in picture_directions(&camera, &EdgeAxis::BLOCK_AXES) {
         assert!((d.length() - 1.0).abs() < 1e-9 && (d.y > 0.0 || d.x > 0.0));
     }
 }
@@ -434,7 +433,7 @@ fn committed_fixtures_are_found_exactly() {
     }
 }
 
-/// The CLI on the committed fixtures: `vertices` writes the JSON of issue #5, `edges` a 0/255
+/// The CLI on the committed fixtures: `vertices` writes the JSON of README "Vision front end", `edges` a 0/255
 /// PNG; a picture of the wrong size fails naming the file and both sizes.
 #[test]
 fn cli_vertices_and_edges_on_fixtures() {
@@ -455,15 +454,18 @@ fn cli_vertices_and_edges_on_fixtures() {
     assert!(st.success());
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let vs = v["vertices"].as_array().unwrap();
-    assert_eq!(vs.len(), 7);
-    let mut codes: Vec<u64> = vs.iter().map(|x| x["code"].as_u64().unwrap()).collect();
+    // The one vertices format is the line-drawing format of `lines_<view>.json`.
+    let d = LineDrawing::from_json(&v.to_string()).unwrap();
+    assert_eq!(d.points.len(), 7);
+    let mut codes: Vec<u8> = d.codes.iter().map(|c| c.0).collect();
     codes.sort();
     assert_eq!(codes, vec![9, 14, 21, 22, 33, 40, 50]);
-    assert!(vs
+    assert!(v["junctions"]
+        .as_array()
+        .unwrap()
         .iter()
-        .all(|x| x["x"].is_f64() && x["junction"].is_string()));
-    assert_eq!(v["lines"].as_array().unwrap().len(), 9);
+        .all(|x| x.is_string()));
+    assert_eq!(d.lines.len(), 9);
 
     let edges = tmp.path().join("e.png");
     let st = std::process::Command::new(exe)
@@ -557,7 +559,7 @@ fn a_small_stack_gives_vertices_on_corners() {
     }
 }
 
-/// The issue #5 accuracy targets on the real renderer (lavapipe) and the exact ground truth, for
+/// The README "Vision front end" accuracy targets on the real renderer (lavapipe) and the exact ground truth, for
 /// every scene in `scenes/`: noise-free vertex precision, recall and code accuracy at least 0.98;
 /// with sensor noise sigma 8 at least 0.95. Skips loudly without a renderer unless
 /// `BLOCKWORLD_REQUIRE_GPU` is set.

@@ -2,6 +2,7 @@
 //! argv or the environment (`SLURM_ARRAY_TASK_ID`, `JOB_COMPLETION_INDEX`).
 
 mod commands;
+pub mod files;
 pub mod view_args;
 
 use clap::{Parser, Subcommand};

@@ -1,11 +1,12 @@
 //! Render options shared by every command that renders (`render`, `demo`, `generate`,
 //! `bench ...`), flattened into their clap `Args`.
 
-use crate::geom::ISOMETRIC_ELEVATION_DEG;
-use crate::render::{Backend, CameraOptions, CornerView, Projection, RenderOptions};
 use anyhow::{bail, Context};
+use blockworld::camera::{CameraOptions, CornerView, Projection};
+use blockworld::geom::ISOMETRIC_ELEVATION_DEG;
+use blockworld::render::{Backend, RenderOptions};
 
-/// How views are rendered (issue #2 "Renderer").
+/// How views are rendered (README "Rendering").
 #[derive(Debug, Clone, clap::Args)]
 pub struct ViewArgs {
     /// Views to render, comma separated (ne, se, sw, nw).
@@ -73,39 +74,13 @@ impl ViewArgs {
         }
         let projection = match self.projection.to_ascii_lowercase().as_str() {
             "orthographic" | "ortho" => Projection::Orthographic,
-            "perspective" => {
-                if !(1.0..=170.0).contains(&self.fov) {
-                    bail!("--fov: {} is out of range; use 1..=170 degrees", self.fov);
-                }
-                Projection::Perspective {
-                    fov_y_deg: self.fov,
-                }
-            }
+            "perspective" => Projection::Perspective {
+                fov_y_deg: self.fov,
+            },
             other => bail!("--projection: unknown {other:?}; use orthographic or perspective"),
         };
         let elevation_deg = self.elevation.unwrap_or(ISOMETRIC_ELEVATION_DEG);
-        if !(1.0..=89.0).contains(&elevation_deg) {
-            bail!("--elevation: {elevation_deg} is out of range; use 1..=89 degrees");
-        }
-        if !(0.1..=10.0).contains(&self.pixel_aspect) {
-            bail!(
-                "--pixel-aspect: {} is out of range; use 0.1..=10",
-                self.pixel_aspect
-            );
-        }
-        if self.msaa != 1 && self.msaa != 4 {
-            bail!(
-                "--msaa: {} is not supported; lavapipe offers 1 or 4",
-                self.msaa
-            );
-        }
-        if !(0.0..=128.0).contains(&self.noise) {
-            bail!(
-                "--noise: {} is out of range; use 0..=128 gray levels",
-                self.noise
-            );
-        }
-        Ok(RenderOptions {
+        let opts = RenderOptions {
             camera: CameraOptions {
                 size_px: [w, h],
                 elevation_deg,
@@ -116,7 +91,10 @@ impl ViewArgs {
             msaa: self.msaa,
             noise_sigma: self.noise,
             seed: self.seed,
-        })
+        };
+        opts.validate()
+            .context("--elevation, --fov, --pixel-aspect, --msaa, --noise or --size")?;
+        Ok(opts)
     }
 }
 

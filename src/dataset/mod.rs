@@ -1,4 +1,4 @@
-//! Synthetic datasets (issue #3): seeded scene families (Chapter VII's supported cases and its
+//! Synthetic datasets (README "Settling and datasets"): seeded scene families (Chapter VII's supported cases and its
 //! named failures), settled with `physics`, rendered with `render`, written one folder per
 //! scene with a manifest of sha256 hashes, sliced into shards for Slurm or Kubernetes, resumed
 //! after an interruption and merged.
@@ -18,7 +18,7 @@ pub use error::DatasetError;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
 pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpec, MAX_ATTEMPTS};
 pub use manifest::{ManifestEntry, MANIFEST_NAME};
-pub use shard::Shard;
+pub use shard::{Shard, ShardError};
 pub use writer::{
     generate_dataset, merge_shards, DatasetOptions, GenerateSummary, MergeSummary, StageTimes,
     DATASET_FILE, DONE_FILE,

@@ -1,6 +1,22 @@
 //! Shards: disjoint, deterministic slices of a dataset for array jobs (Slurm, Kubernetes
 //! Indexed Jobs). Scene `i` belongs to shard `i mod count`.
 
+/// A shard that cannot exist, or a `--shard` value that is not `I/N`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ShardError {
+    /// `count` is zero or `index` is not below it.
+    #[error("shard {index}/{count}: need count >= 1 and index < count (shards are 0-based)")]
+    OutOfRange {
+        /// The index given.
+        index: u64,
+        /// The count given.
+        count: u64,
+    },
+    /// Not of the form `I/N` with whole numbers.
+    #[error("--shard {0:?}: expected I/N with whole numbers, such as 0/4")]
+    Syntax(String),
+}
+
 /// Shard `index` of `count` (0-based); `Shard::WHOLE` is the unsharded dataset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
@@ -15,25 +31,18 @@ impl Shard {
     pub const WHOLE: Shard = Shard { index: 0, count: 1 };
 
     /// A checked shard `index` of `count`.
-    pub fn new(index: u64, count: u64) -> Result<Shard, String> {
+    pub fn new(index: u64, count: u64) -> Result<Shard, ShardError> {
         if count == 0 || index >= count {
-            return Err(format!(
-                "shard {index}/{count}: need count >= 1 and index < count (shards are 0-based)"
-            ));
+            return Err(ShardError::OutOfRange { index, count });
         }
         Ok(Shard { index, count })
     }
 
     /// Parses `I/N`.
-    pub fn parse(s: &str) -> Result<Shard, String> {
-        let (i, n) = s
-            .split_once('/')
-            .ok_or_else(|| format!("--shard {s:?}: expected I/N such as 0/4"))?;
-        let num = |x: &str| {
-            x.trim()
-                .parse::<u64>()
-                .map_err(|_| format!("--shard {s:?}: expected I/N with whole numbers"))
-        };
+    pub fn parse(s: &str) -> Result<Shard, ShardError> {
+        let syntax = || ShardError::Syntax(s.to_string());
+        let (i, n) = s.split_once('/').ok_or_else(syntax)?;
+        let num = |x: &str| x.trim().parse::<u64>().map_err(|_| syntax());
         Shard::new(num(i)?, num(n)?)
     }
 

@@ -13,9 +13,10 @@ use super::manifest::{
     ManifestEntry, MANIFEST_NAME,
 };
 use super::{DatasetError, Family, Shard};
+use crate::camera::CornerView;
 use crate::io::write_atomic;
 use crate::physics::SettleParams;
-use crate::render::{CornerView, RenderOptions, Renderer};
+use crate::render::{RenderOptions, Renderer};
 use crate::scene::{scene_to_json, write_scene};
 use rayon::prelude::*;
 use serde_json::{json, Value};
@@ -106,9 +107,11 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
 }
 
 /// The `dataset.json` content: everything that decides the files, nothing about jobs or shards.
+/// The render and settle parameters are their structs serialized whole, so a new field can
+/// never go unrecorded and let a resume mix two datasets.
 fn dataset_json(opts: &DatasetOptions) -> Value {
-    let c = &opts.render.camera;
-    let s = &opts.settle;
+    let mut render = serde_json::to_value(opts.render).expect("render options serialize");
+    render["noise_seed"] = json!("the scene's seed");
     json!({
         "version": LAYOUT_VERSION,
         "generator": format!("blockworld {}", env!("CARGO_PKG_VERSION")),
@@ -118,28 +121,15 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
         "families": opts.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
         "family_of_scene": "families[index % len(families)]",
         "views": opts.views.iter().map(|v| v.name()).collect::<Vec<_>>(),
-        "render": {
-            "size_px": c.size_px,
-            "elevation_deg": c.elevation_deg,
-            "projection": c.projection,
-            "pixel_aspect": c.pixel_aspect,
-            "margin": c.margin,
-            "msaa": opts.render.msaa,
-            "noise_sigma": opts.render.noise_sigma,
-            "noise_seed": "the scene's seed",
-        },
-        "settle": {
-            "dt_s": s.dt_s, "max_time_s": s.max_time_s, "drift_tol_mm": s.drift_tol_mm,
-            "turn_tol_deg": s.turn_tol_deg, "drop_gap_mm": s.drop_gap_mm,
-            "floor_contact_mm": s.floor_contact_mm, "density_kg_m3": s.density_kg_m3,
-            "friction": s.friction, "length_unit_m": s.length_unit_m,
-            "contact_hz": s.contact_hz, "static_contact_hz": s.static_contact_hz,
-            "solver_iterations": s.solver_iterations,
-        },
+        "render": render,
+        "settle": serde_json::to_value(opts.settle).expect("settle parameters serialize"),
     })
 }
 
 fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
+    opts.render
+        .validate()
+        .map_err(|e| DatasetError::Options(e.to_string()))?;
     if opts.count == 0 {
         return Err(DatasetError::Options("--count must be at least 1".into()));
     }
@@ -390,29 +380,19 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
         &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
     )
     .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
-    let count = options["count"]
-        .as_u64()
-        .ok_or_else(|| merge_err(format!("{DATASET_FILE} has no count")))?;
+    let count = match &options["count"] {
+        Value::Null => return Err(merge_err(format!("{DATASET_FILE} has no count"))),
+        c => c.as_u64().filter(|&c| c >= 1).ok_or_else(|| {
+            merge_err(format!(
+                "{DATASET_FILE} has count {c}, not a whole number of at least 1; restore the \
+                 dataset.json that `blockworld generate` wrote"
+            ))
+        })?,
+    };
     let shards = find_shard_manifests(dir)?;
-    let n = shards.first().map(|s| s.1).ok_or_else(|| {
-        merge_err(
-            "no manifest.shard-I-of-N.jsonl files; run `blockworld generate --shard I/N` first"
-                .into(),
-        )
-    })?;
-    if let Some(other) = shards.iter().find(|s| s.1 != n) {
-        return Err(merge_err(format!(
-            "shard manifests of different shard counts ({n} and {}); remove the stale ones",
-            other.1
-        )));
-    }
-    let present: Vec<u64> = shards.iter().map(|s| s.0).collect();
-    if let Some(missing) = (0..n).find(|i| !present.contains(i)) {
-        return Err(merge_err(format!(
-            "shard {missing} of {n} is missing; run `blockworld generate ... --shard {missing}/{n}` with the same options"
-        )));
-    }
-    let mut entries: Vec<Option<ManifestEntry>> = vec![None; count as usize];
+    let n = check_shard_set(&shards).map_err(merge_err)?;
+    // Memory follows the manifests on disk, never the count claimed in dataset.json.
+    let mut entries: std::collections::BTreeMap<u64, ManifestEntry> = Default::default();
     for (i, shard_n, path) in &shards {
         let text = std::fs::read_to_string(path).map_err(io_err(path))?;
         for e in parse_manifest(&text, path)? {
@@ -423,26 +403,26 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
                     e.id
                 )));
             }
-            let slot = &mut entries[e.index as usize];
-            if slot.is_some() {
-                return Err(merge_err(format!("scene {} is listed twice", e.id)));
+            let id = e.id.clone();
+            if entries.insert(e.index, e).is_some() {
+                return Err(merge_err(format!("scene {id} is listed twice")));
             }
-            *slot = Some(e);
         }
     }
-    let missing: Vec<String> = (0..count)
-        .filter(|&i| entries[i as usize].is_none())
-        .map(super::scene_id)
-        .collect();
-    if !missing.is_empty() {
+    let missing_count = count - entries.len() as u64;
+    if missing_count > 0 {
+        let first: Vec<String> = (0..count)
+            .filter(|i| !entries.contains_key(i))
+            .take(5)
+            .map(super::scene_id)
+            .collect();
         return Err(merge_err(format!(
-            "{} scenes missing ({}{}); re-run their shard to resume",
-            missing.len(),
-            missing[..missing.len().min(5)].join(", "),
-            if missing.len() > 5 { ", ..." } else { "" }
+            "{missing_count} scenes missing ({}{}); re-run their shard to resume",
+            first.join(", "),
+            if missing_count > 5 { ", ..." } else { "" }
         )));
     }
-    let entries: Vec<ManifestEntry> = entries.into_iter().flatten().collect();
+    let entries: Vec<ManifestEntry> = entries.into_values().collect();
     entries.par_iter().try_for_each(|e| verify_entry(dir, e))?;
     let manifest = dir.join(MANIFEST_NAME);
     write_atomic(&manifest, manifest_text(&entries).as_bytes()).map_err(io_err(&manifest))?;
@@ -451,6 +431,45 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
         scenes: count,
         manifest,
     })
+}
+
+/// Checks that the shard manifests form one whole set `0..N` of one count `N` and returns `N`;
+/// a name that no shard can have (`manifest.shard-0-of-0.jsonl`, an index not below its count)
+/// is named with the fix.
+fn check_shard_set(shards: &[(u64, u64, PathBuf)]) -> Result<u64, String> {
+    if let Some((i, n, path)) = shards.iter().find(|(i, n, _)| *n == 0 || i >= n) {
+        return Err(format!(
+            "{} names shard {i} of {n}, which cannot exist (shards are 0..N with N >= 1); \
+             remove the stray file",
+            path.display()
+        ));
+    }
+    let n = shards.first().map(|s| s.1).ok_or_else(|| {
+        "no manifest.shard-I-of-N.jsonl files; run `blockworld generate --shard I/N` first"
+            .to_string()
+    })?;
+    if let Some(other) = shards.iter().find(|s| s.1 != n) {
+        return Err(format!(
+            "shard manifests of different shard counts ({n} and {}); remove the stale ones",
+            other.1
+        ));
+    }
+    // Sorted and of one count: shard k must sit at position k.
+    let missing = (0..n)
+        .zip(
+            shards
+                .iter()
+                .map(|s| s.0)
+                .chain(std::iter::repeat(u64::MAX)),
+        )
+        .find(|(want, have)| want != have)
+        .map(|(want, _)| want);
+    if let Some(missing) = missing {
+        return Err(format!(
+            "shard {missing} of {n} is missing; run `blockworld generate ... --shard {missing}/{n}` with the same options"
+        ));
+    }
+    Ok(n)
 }
 
 /// The shard manifests in `dir` as (I, N, path), sorted.

@@ -42,14 +42,44 @@ pub enum Junction {
     Other,
 }
 
-impl Junction {
-    /// The thesis's coarse class: "Y" (fork or arrow), "T", "L", or "other".
-    pub fn thesis_class(self) -> &'static str {
+/// The thesis's coarse classes (Chapter V, Figure 5.1): the "Y" and collinear "T" vertices the
+/// parallelogram search starts from, the "L" corners, and everything else.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ThesisClass {
+    /// Fork or arrow.
+    #[serde(rename = "Y")]
+    Y,
+    /// Three lines, two collinear.
+    #[serde(rename = "T")]
+    T,
+    /// Two lines that are not collinear.
+    #[serde(rename = "L")]
+    L,
+    /// Any other junction.
+    #[serde(rename = "other")]
+    Other,
+}
+
+impl ThesisClass {
+    /// `Y`, `T`, `L` or `other`, as the thesis writes them.
+    pub fn as_str(self) -> &'static str {
         match self {
-            Junction::Fork | Junction::Arrow => "Y",
-            Junction::T => "T",
-            Junction::L => "L",
-            _ => "other",
+            ThesisClass::Y => "Y",
+            ThesisClass::T => "T",
+            ThesisClass::L => "L",
+            ThesisClass::Other => "other",
+        }
+    }
+}
+
+impl Junction {
+    /// The thesis's coarse class: "Y" (fork or arrow), "T", "L", or other.
+    pub fn thesis_class(self) -> ThesisClass {
+        match self {
+            Junction::Fork | Junction::Arrow => ThesisClass::Y,
+            Junction::T => ThesisClass::T,
+            Junction::L => ThesisClass::L,
+            _ => ThesisClass::Other,
         }
     }
 }
@@ -146,8 +176,9 @@ mod tests {
             classify_junction(&[v(0.87, 0.5), v(-0.87, -0.5), v(0.0, 1.0)]),
             Junction::T
         );
-        assert_eq!(Junction::T.thesis_class(), "T");
-        assert_eq!(Junction::Arrow.thesis_class(), "Y");
+        assert_eq!(Junction::T.thesis_class(), ThesisClass::T);
+        assert_eq!(Junction::Arrow.thesis_class(), ThesisClass::Y);
+        assert_eq!(ThesisClass::Y.as_str(), "Y");
         let x = [v(1.0, 0.0), v(-1.0, 0.0), v(0.0, 1.0), v(0.0, -1.0)];
         assert_eq!(classify_junction(&x), Junction::X);
         let k = [v(0.0, 1.0), v(0.0, -1.0), v(1.0, 0.5), v(1.0, -0.5)];

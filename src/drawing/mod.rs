@@ -8,11 +8,15 @@
 //! example up + down + ld + ru = 27. Appendix A (Figure A.6) prints another order and its
 //! row E contradicts it; this crate follows Chapter IV (see README "Thesis readings").
 
+mod axis;
 mod code;
 mod junction;
+mod read;
 
+pub use axis::EdgeAxis;
 pub use code::{Direction, SixBitCode, HORIZONTAL_TOL_DEG, VERTICAL_TOL_DEG};
-pub use junction::{classify_junction, Junction, COLLINEAR_TOL_DEG};
+pub use junction::{classify_junction, Junction, ThesisClass, COLLINEAR_TOL_DEG};
+pub use read::DrawingError;
 
 use crate::geom::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -187,7 +191,7 @@ mod tests {
     fn cube_codes_follow_chapter_iv_bit_order() {
         let d = cube();
         let codes: Vec<u8> = d.codes.iter().map(|c| c.0).collect();
-        // The set of shared/notes/ground-truth.md: top 40, middle fork 22.
+        // The set of README "The exact line drawing": top 40, middle fork 22.
         assert_eq!(codes, vec![40, 14, 9, 21, 33, 50, 22]);
         assert_eq!(d.junctions[6], Junction::Fork);
         assert_eq!(d.junctions[0], Junction::L);

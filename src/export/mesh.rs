@@ -44,7 +44,7 @@ pub(super) fn flat_mesh(block_type: &BlockType) -> Result<FlatMesh, ExportError>
         normals: Vec::new(),
         indices: Vec::new(),
     };
-    for (face_index, face) in block_type.faces.iter().enumerate() {
+    for (face_index, face) in block_type.faces().iter().enumerate() {
         let corners = face_corners_mm(block_type, face_index)?;
         let normal = face_normal(&corners).ok_or_else(|| ExportError::DegenerateFace {
             block_type: block_type.id.to_string(),
@@ -65,7 +65,7 @@ pub(super) fn flat_mesh(block_type: &BlockType) -> Result<FlatMesh, ExportError>
 
 /// The corners of face `face_index` in block-local mm, checked against the vertex table.
 fn face_corners_mm(block_type: &BlockType, face_index: usize) -> Result<Vec<DVec3>, ExportError> {
-    let face = block_type.faces[face_index];
+    let face = block_type.faces()[face_index];
     let bad = |reason: String| ExportError::DegenerateFace {
         block_type: block_type.id.to_string(),
         face: face_index,
@@ -77,13 +77,13 @@ fn face_corners_mm(block_type: &BlockType, face_index: usize) -> Result<Vec<DVec
     face.iter()
         .map(|&i| {
             block_type
-                .vertices_mm
+                .vertices_mm()
                 .get(i as usize)
                 .map(|v| DVec3::from_array(*v))
                 .ok_or_else(|| {
                     bad(format!(
                         "vertex index {i} is past the {} vertices",
-                        block_type.vertices_mm.len()
+                        block_type.vertices_mm().len()
                     ))
                 })
         })
@@ -106,7 +106,7 @@ fn to_f32(v: DVec3) -> [f32; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{block_type, CATALOG};
+    use crate::scene::{block_type, ConvexPolyhedron, Shape, CATALOG};
 
     /// Signed volume enclosed by the triangles, in m^3 (divergence theorem).
     fn volume_m3(mesh: &FlatMesh) -> f64 {
@@ -179,9 +179,20 @@ mod tests {
     const PRISM: BlockType = BlockType {
         id: "prism",
         name: "test prism",
-        vertices_mm: &PRISM_VERTICES,
-        faces: PRISM_FACES,
+        shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+            vertices_mm: &PRISM_VERTICES,
+            faces: PRISM_FACES,
+        }),
     };
+    const fn with_faces(faces: &'static [&'static [u8]]) -> BlockType {
+        BlockType {
+            shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+                vertices_mm: &PRISM_VERTICES,
+                faces,
+            }),
+            ..PRISM
+        }
+    }
 
     #[test]
     fn non_cuboid_prism_triangulates_by_fan() {
@@ -196,23 +207,14 @@ mod tests {
     #[test]
     fn degenerate_faces_are_named() {
         const FACES: &[&[u8]] = &[&[0, 1], &[0, 1, 9]];
-        let two = BlockType {
-            faces: &FACES[..1],
-            ..PRISM
-        };
+        let two = with_faces(&FACES[..1]);
         let msg = flat_mesh(&two).unwrap_err().to_string();
         assert!(msg.contains("prism") && msg.contains("face 0"), "{msg}");
-        let out_of_range = BlockType {
-            faces: &FACES[1..],
-            ..PRISM
-        };
+        let out_of_range = with_faces(&FACES[1..]);
         let msg = flat_mesh(&out_of_range).unwrap_err().to_string();
         assert!(msg.contains("vertex index 9"), "{msg}");
         const FLAT: &[&[u8]] = &[&[0, 1, 1]];
-        let flat = BlockType {
-            faces: FLAT,
-            ..PRISM
-        };
+        let flat = with_faces(FLAT);
         assert!(flat_mesh(&flat)
             .unwrap_err()
             .to_string()

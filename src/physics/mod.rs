@@ -1,4 +1,4 @@
-//! Settling scenes with rapier3d (issue #3): the only home of rapier3d.
+//! Settling scenes with rapier3d (README "Settling and datasets"): the only home of rapier3d.
 //!
 //! A scene's blocks are dropped from a small gap above their intended poses onto a fixed floor
 //! and simulated until every body sleeps or a time limit passes. The scene is **stable** when no
@@ -7,13 +7,13 @@
 //! not meant to (the thesis's Chapter VII constraint: every block rests on the floor or on other
 //! blocks, "contacted at least by one surface").
 //!
-//! Units (see `shared/notes/dependencies.md`): rapier runs in **metres** with
+//! Units (see README "Dependencies"): rapier runs in **metres** with
 //! `length_unit` = 0.01 (block-sized slop, prediction distance and sleep thresholds), gravity
 //! -9.81 m/s², a 1/240 s step and stiff contacts (240 Hz between bodies, 480 Hz against the
 //! floor), so resting blocks sink only about 0.03 mm into their supports instead of 0.4 mm and
 //! tall towers stay up (see [`SettleParams::dt_s`]).
 //!
-//! Policy for the settled scene (`shared/notes/ground-truth.md`, "settled poses are not flush"):
+//! Policy for the settled scene (README "The exact line drawing"):
 //! a **stable** scene is written back at its *intended* poses, as `rotation` quaternions, and
 //! the measured drift goes into `meta.settle`; the exact line drawing keeps every seam and
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
@@ -23,7 +23,7 @@ mod report;
 pub use report::{BlockReport, SettleReport};
 
 use crate::geom::{DQuat, DVec3};
-use crate::scene::{Block, Orientation, Scene};
+use crate::scene::{layer_bottoms_mm, layer_index, Block, Orientation, Scene};
 use rapier3d::prelude::{
     ColliderBuilder, IntegrationParameters, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
 };
@@ -33,7 +33,7 @@ use rapier3d::prelude::{Pose, Rotation, Vector};
 const M_PER_MM: f64 = 0.001;
 
 /// Everything that decides how a scene is settled; every field gives its unit and default.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SettleParams {
     /// Time step in seconds; default 1/240 s. NOTE: at 1/60 s (rapier's default, tuned for
     /// metre-sized bodies) a perfectly aligned tower of three b15 falls over: per step gravity
@@ -44,9 +44,9 @@ pub struct SettleParams {
     /// Simulated time limit in seconds; default 4 s. A scene whose bodies are not all asleep by
     /// then is unstable.
     pub max_time_s: f64,
-    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (issue #3).
+    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (README "Settling and datasets").
     pub drift_tol_mm: f64,
-    /// Largest allowed turn from the intended orientation, degrees; default 1 (issue #3).
+    /// Largest allowed turn from the intended orientation, degrees; default 1 (README "Settling and datasets").
     pub turn_tol_deg: f64,
     /// Gap per layer the blocks are lifted by before the drop, mm; default 0.05. A block whose
     /// bottom is at layer `k` (counting distinct bottom heights from the floor, `k` = 0 on the
@@ -121,7 +121,7 @@ pub enum PhysicsError {
     Params(String),
 }
 
-/// Settles `scene` with rapier3d and judges its stability (issue #3 "Settling").
+/// Settles `scene` with rapier3d and judges its stability (README "Settling and datasets").
 ///
 /// Deterministic: the same scene and parameters give bit-identical results (rapier's
 /// `enhanced-determinism`; one thread per scene).
@@ -272,8 +272,7 @@ fn canonical_frame(block: &Block) -> (DQuat, bool) {
     if (q * DVec3::Y).angle_between(DVec3::Y) > 1e-9 {
         return (DQuat::IDENTITY, false);
     }
-    let x = q * DVec3::X;
-    let yaw_deg = (-x.z).atan2(x.x).to_degrees();
+    let yaw_deg = crate::geom::heading_deg(q);
     let quarters = (yaw_deg / 90.0).round();
     if (yaw_deg - quarters * 90.0).abs() > 1e-6 {
         return (DQuat::IDENTITY, false);
@@ -314,30 +313,16 @@ fn block_collider(
 /// Each block's drop layer: the rank of its lowest point among the scene's distinct bottom
 /// heights (0 for blocks on the floor). Heights within 0.01 mm count as the same.
 fn drop_layers(scene: &Scene) -> Vec<usize> {
-    let bottoms: Vec<f64> = scene.blocks.iter().map(lowest_y_mm).collect();
-    let mut distinct: Vec<f64> = Vec::new();
-    let mut sorted = bottoms.clone();
-    sorted.sort_by(f64::total_cmp);
-    for b in sorted {
-        if distinct.last().is_none_or(|&d| b - d > 0.01) {
-            distinct.push(b);
-        }
-    }
-    bottoms
+    const SAME_LAYER_MM: f64 = 0.01;
+    let layers = layer_bottoms_mm(&scene.blocks, SAME_LAYER_MM);
+    scene
+        .blocks
         .iter()
-        .map(|b| distinct.iter().filter(|&&d| *b - d > 0.01).count())
+        .map(|b| layer_index(&layers, b.bottom_mm(), SAME_LAYER_MM))
         .collect()
 }
 
 /// Lowest world y of a block, mm.
-fn lowest_y_mm(block: &Block) -> f64 {
-    block
-        .world_vertices()
-        .iter()
-        .map(|v| v.y)
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// The scene to write: intended poses when stable (snapped back), simulated poses otherwise;
 /// both with `rotation` quaternions and `meta.settle`.
 fn settled_scene(scene: &Scene, poses: &[(DVec3, DQuat)], report: &SettleReport) -> Scene {

@@ -1,5 +1,5 @@
 //! The settling report: how far each block moved and turned, whether it touches the floor, and
-//! the verdict (issue #3 "A scene is stable when ...").
+//! the verdict (README "Settling and datasets").
 
 use super::SettleParams;
 use crate::geom::{DQuat, DVec3};

@@ -1,14 +1,13 @@
-//! The off-screen renderer (issue #2): grayscale 45-degree corner views of a scene, rendered with
+//! The off-screen renderer (README "Rendering"): grayscale 45-degree corner views of a scene, rendered with
 //! wgpu (Vulkan on lavapipe by default), plus their ground truth: depth, block ids and the exact
 //! visible line drawing computed from geometry.
 //!
-//! `camera` is pure math shared with `vision`; `truth` is pure geometry; only `gpu` touches wgpu.
+//! The camera is the shared `crate::camera`; `truth` is pure geometry; only `gpu` touches wgpu.
 
-pub mod camera;
 mod gpu;
 pub mod truth;
 
-pub use camera::{Camera, CameraOptions, CornerView, Projection};
+use crate::camera::{Camera, CameraOptions, CornerView, Projection, DEPTH_UNITS_PER_MM};
 
 use crate::drawing::LineDrawing;
 use crate::geom::DVec3;
@@ -28,17 +27,73 @@ pub enum Backend {
     Gl,
 }
 
-/// Everything that decides how a view is rendered.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Everything that decides how a view is rendered. Serializes flat (camera options first) into
+/// `dataset.json`, without the per-scene noise seed.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct RenderOptions {
     /// Camera placement, projection and picture size.
+    #[serde(flatten)]
     pub camera: CameraOptions,
     /// Multisample count: 1 (exact gray levels) or 4.
     pub msaa: u32,
     /// Standard deviation of Gaussian sensor noise in gray levels; 0 = none.
     pub noise_sigma: f64,
     /// Seed of the noise (the same seed gives the same noise).
+    #[serde(skip)]
     pub seed: u64,
+}
+
+impl RenderOptions {
+    /// Checks the options every renderer can take, whatever its device (the one home of these
+    /// bounds; the command line and the dataset writer call it): a non-empty picture, an
+    /// elevation of 1..=89 degrees, a field of view of 1..=170 degrees, a pixel aspect of
+    /// 0.1..=10, MSAA 1 or 4 (the only counts lavapipe offers), sensor noise of 0..=128 gray
+    /// levels and a framing margin in [0, 0.5).
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let c = &self.camera;
+        let bad = |what: String| Err(RenderError::Options(what));
+        if c.size_px[0] == 0 || c.size_px[1] == 0 {
+            return bad(format!(
+                "picture size {}x{} px has a zero side",
+                c.size_px[0], c.size_px[1]
+            ));
+        }
+        if !(1.0..=89.0).contains(&c.elevation_deg) {
+            return bad(format!(
+                "elevation {} deg is out of range; use 1..=89",
+                c.elevation_deg
+            ));
+        }
+        if let Projection::Perspective { fov_y_deg } = c.projection {
+            if !(1.0..=170.0).contains(&fov_y_deg) {
+                return bad(format!(
+                    "field of view {fov_y_deg} deg is out of range; use 1..=170"
+                ));
+            }
+        }
+        if !(0.1..=10.0).contains(&c.pixel_aspect) {
+            return bad(format!(
+                "pixel aspect {} is out of range; use 0.1..=10",
+                c.pixel_aspect
+            ));
+        }
+        if !(0.0..0.5).contains(&c.margin) {
+            return bad(format!("margin {} is out of range; use [0, 0.5)", c.margin));
+        }
+        if self.msaa != 1 && self.msaa != 4 {
+            return bad(format!(
+                "msaa {} is not supported; lavapipe offers 1 or 4",
+                self.msaa
+            ));
+        }
+        if !(0.0..=128.0).contains(&self.noise_sigma) {
+            return bad(format!(
+                "noise {} is out of range; use 0..=128 gray levels",
+                self.noise_sigma
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for RenderOptions {
@@ -68,9 +123,6 @@ pub struct RenderedView {
     pub lines: LineDrawing,
 }
 
-/// Depth PNG scale: steps per millimetre (1/16 mm resolution, up to 4095.9 mm).
-pub const DEPTH_UNITS_PER_MM: f64 = 16.0;
-
 /// Rendering errors; each says what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -88,16 +140,13 @@ pub enum RenderError {
     /// Options that cannot be rendered (size, MSAA count).
     #[error("invalid render options: {0}")]
     Options(String),
-    /// Kept from the pinned API for callers that match on it; the renderer no longer returns it.
-    #[error("the renderer is not implemented yet")]
-    Unimplemented,
 }
 
 /// Gray level of the background (where neither the floor nor a block is seen).
 pub const BACKGROUND_LEVEL: u8 = 20;
 
 /// Gray level of the seam drawn along every block face edge, so that touching blocks stay
-/// distinguishable (issue #2; real Fischer-Technik blocks show a dark gap there).
+/// distinguishable (README "Rendering"; real Fischer-Technik blocks show a dark gap there).
 pub const SEAM_LEVEL: u8 = 35;
 
 /// Half width of the seam in px: a fragment whose pixel centre lies closer than this to the
@@ -200,48 +249,23 @@ impl Renderer {
     }
 
     fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
+        opts.validate()?;
         let [w, h] = opts.camera.size_px;
         let max = self.gpu.max_texture_px();
-        if w == 0 || h == 0 || w > max || h > max {
+        if w > max || h > max {
             return Err(RenderError::Options(format!(
                 "picture size {w}x{h} px: each side must be 1..={max} on this device"
             )));
         }
-        if opts.msaa != 1 && opts.msaa != 4 {
-            return Err(RenderError::Options(format!(
-                "msaa {}: use 1 (exact gray levels) or 4 (the only count lavapipe offers)",
-                opts.msaa
-            )));
-        }
-        if !opts.noise_sigma.is_finite() || opts.noise_sigma < 0.0 {
-            return Err(RenderError::Options(format!(
-                "noise sigma {} must be a finite number >= 0",
-                opts.noise_sigma
-            )));
-        }
-        let c = &opts.camera;
-        let sane = c.elevation_deg.is_finite()
-            && c.elevation_deg > 0.0
-            && c.elevation_deg < 90.0
-            && c.pixel_aspect.is_finite()
-            && c.pixel_aspect > 0.0
-            && c.margin.is_finite()
-            && (0.0..0.5).contains(&c.margin);
-        if !sane {
-            return Err(RenderError::Options(format!(
-                "camera: elevation {} deg must be in (0, 90), pixel aspect {} > 0, margin {} in [0, 0.5)",
-                c.elevation_deg, c.pixel_aspect, c.margin
-            )));
-        }
-        if let Projection::Perspective { fov_y_deg } = c.projection {
-            if !(fov_y_deg.is_finite() && fov_y_deg > 0.0 && fov_y_deg < 180.0) {
-                return Err(RenderError::Options(format!(
-                    "field of view {fov_y_deg} deg must be in (0, 180)"
-                )));
-            }
-        }
         Ok(())
     }
+}
+
+/// The noise seed of one view: the options' seed mixed with the view, so the four views get
+/// different but reproducible noise.
+fn noise_seed(seed: u64, view: CornerView) -> u64 {
+    let v = CornerView::ALL.iter().position(|c| *c == view).unwrap_or(0) as u64;
+    seed ^ (v + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 
 /// The shader constants of one view: the camera's matrices in f32.
@@ -256,13 +280,6 @@ fn frame_uniforms(camera: &Camera) -> gpu::FrameUniforms {
         depth_units_per_mm: DEPTH_UNITS_PER_MM as f32,
         pad: 0.0,
     }
-}
-
-/// The noise seed of one view: the options' seed mixed with the view, so the four views get
-/// different but reproducible noise.
-fn noise_seed(seed: u64, view: CornerView) -> u64 {
-    let v = CornerView::ALL.iter().position(|c| *c == view).unwrap_or(0) as u64;
-    seed ^ (v + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 
 /// Adds Gaussian sensor noise of standard deviation `sigma_levels` (the thesis's CCD camera,

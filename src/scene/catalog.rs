@@ -4,7 +4,7 @@
 //! Renderer, ground truth, physics and scoring read shapes only through [`BlockType`], so a new
 //! block (the trapezoidal wedge of Chapter VII, Figure 7.1) is one more row in [`CATALOG`].
 
-use crate::geom::DVec3;
+use crate::geom::{bounds3, DVec3};
 
 /// Vertex indices of the six faces of a cuboid whose vertices follow [`cuboid_vertices`]'s order,
 /// each face counter-clockwise seen from outside.
@@ -37,22 +37,37 @@ const B15_VERTICES: [[f64; 3]; 8] = cuboid_vertices(15.0, 15.0, 15.0);
 const B30_VERTICES: [[f64; 3]; 8] = cuboid_vertices(30.0, 15.0, 15.0);
 const B7_5_VERTICES: [[f64; 3]; 8] = cuboid_vertices(15.0, 7.5, 15.0);
 
-/// One block type: an id used in scene files, a human name, and its convex polyhedron in
-/// block-local millimetres, centred on the centre of its bounding box, resting orientation
-/// with local +y up. Faces list vertex indices counter-clockwise seen from outside.
+/// A convex polyhedron in block-local millimetres, centred on the centre of its bounding box,
+/// resting orientation with local +y up.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BlockType {
-    /// The id scene files use (`"b15"`).
-    pub id: &'static str,
-    /// The Fischer-Technik name (`"Baustein 15"`).
-    pub name: &'static str,
+pub struct ConvexPolyhedron {
     /// Vertices in block-local mm, relative to the bounding-box centre.
     pub vertices_mm: &'static [[f64; 3]],
     /// Faces as vertex-index loops, counter-clockwise seen from outside.
     pub faces: &'static [&'static [u8]],
 }
 
-/// The catalog (issue #2): ids and sizes as x length, y height, z width in mm.
+/// The solid of a catalog entry. Every stage reads it through [`BlockType::polyhedron`] (the
+/// exact solid for polyhedra); a curved part (Chapter VII's "circles") joins as a new variant
+/// whose polyhedron is its stated approximation, without touching the stages' code.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// A convex polyhedron (the three basic blocks of Figure 6.1).
+    ConvexPolyhedron(ConvexPolyhedron),
+}
+
+/// One block type: an id used in scene files, a human name, and its shape.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockType {
+    /// The id scene files use (`"b15"`).
+    pub id: &'static str,
+    /// The Fischer-Technik name (`"Baustein 15"`).
+    pub name: &'static str,
+    /// The solid.
+    pub shape: Shape,
+}
+
+/// The catalog (README "Rendering"): ids and sizes as x length, y height, z width in mm.
 ///
 /// | id | name | x | y | z |
 /// |---|---|---|---|---|
@@ -63,20 +78,26 @@ pub const CATALOG: &[BlockType] = &[
     BlockType {
         id: "b15",
         name: "Baustein 15",
-        vertices_mm: &B15_VERTICES,
-        faces: CUBOID_FACES,
+        shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+            vertices_mm: &B15_VERTICES,
+            faces: CUBOID_FACES,
+        }),
     },
     BlockType {
         id: "b30",
         name: "Baustein 30",
-        vertices_mm: &B30_VERTICES,
-        faces: CUBOID_FACES,
+        shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+            vertices_mm: &B30_VERTICES,
+            faces: CUBOID_FACES,
+        }),
     },
     BlockType {
         id: "b7_5",
         name: "Baustein 7,5",
-        vertices_mm: &B7_5_VERTICES,
-        faces: CUBOID_FACES,
+        shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
+            vertices_mm: &B7_5_VERTICES,
+            faces: CUBOID_FACES,
+        }),
     },
 ];
 
@@ -86,9 +107,26 @@ pub fn block_type(id: &str) -> Option<&'static BlockType> {
 }
 
 impl BlockType {
-    /// Vertices as vectors in block-local mm.
+    /// The solid as a convex polyhedron: exact for the polyhedral blocks.
+    pub fn polyhedron(&self) -> &ConvexPolyhedron {
+        match &self.shape {
+            Shape::ConvexPolyhedron(p) => p,
+        }
+    }
+
+    /// The polyhedron's vertices as arrays, block-local mm.
+    pub fn vertices_mm(&self) -> &'static [[f64; 3]] {
+        self.polyhedron().vertices_mm
+    }
+
+    /// The polyhedron's faces as vertex-index loops, counter-clockwise seen from outside.
+    pub fn faces(&self) -> &'static [&'static [u8]] {
+        self.polyhedron().faces
+    }
+
+    /// The polyhedron's vertices, block-local mm.
     pub fn vertices(&self) -> impl ExactSizeIterator<Item = DVec3> + '_ {
-        self.vertices_mm.iter().map(|v| DVec3::from_array(*v))
+        self.vertices_mm().iter().map(|v| DVec3::from_array(*v))
     }
 
     /// Full bounding-box size in mm (x length, y height, z width).
@@ -99,18 +137,15 @@ impl BlockType {
 
     /// Local axis-aligned bounds (min, max) in mm.
     pub fn local_bounds_mm(&self) -> (DVec3, DVec3) {
-        self.vertices().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), v| (lo.min(v), hi.max(v)),
-        )
+        bounds3(self.vertices()).unwrap_or((DVec3::ZERO, DVec3::ZERO))
     }
 
     /// Half extents in mm when the shape is an axis-aligned cuboid filling its bounding box
     /// (physics uses rapier's cuboid collider then); `None` for any other polyhedron.
     pub fn cuboid_half_extents_mm(&self) -> Option<DVec3> {
         let (lo, hi) = self.local_bounds_mm();
-        let is_box = self.vertices_mm.len() == 8
-            && self.faces.len() == 6
+        let is_box = self.vertices_mm().len() == 8
+            && self.faces().len() == 6
             && self.vertices().all(|v| {
                 (0..3).all(|k| (v[k] - lo[k]).abs() < 1e-9 || (v[k] - hi[k]).abs() < 1e-9)
             });
@@ -120,7 +155,7 @@ impl BlockType {
     /// Volume in mm^3 (divergence theorem over the triangulated faces).
     pub fn volume_mm3(&self) -> f64 {
         let v: Vec<DVec3> = self.vertices().collect();
-        self.faces
+        self.faces()
             .iter()
             .flat_map(|f| {
                 let v = &v;
@@ -134,8 +169,8 @@ impl BlockType {
 
     /// Outward unit normal of face `f` in block-local coordinates.
     pub fn face_normal(&self, f: usize) -> DVec3 {
-        let face = self.faces[f];
-        let v = |k: usize| DVec3::from_array(self.vertices_mm[face[k] as usize]);
+        let face = self.faces()[f];
+        let v = |k: usize| DVec3::from_array(self.vertices_mm()[face[k] as usize]);
         let mut n = DVec3::ZERO;
         for k in 0..face.len() {
             n += v(k).cross(v((k + 1) % face.len()));
@@ -147,7 +182,7 @@ impl BlockType {
     /// share it: `(a, b, face_left, face_right)`.
     pub fn edges(&self) -> Vec<(usize, usize, usize, usize)> {
         let mut out: Vec<(usize, usize, usize, usize)> = Vec::new();
-        for (fi, face) in self.faces.iter().enumerate() {
+        for (fi, face) in self.faces().iter().enumerate() {
             for k in 0..face.len() {
                 let (a, b) = (face[k] as usize, face[(k + 1) % face.len()] as usize);
                 let key = (a.min(b), a.max(b));
@@ -186,15 +221,15 @@ mod tests {
             );
             // Euler: V - E + F = 2.
             assert_eq!(
-                t.vertices_mm.len() + t.faces.len(),
+                t.vertices_mm().len() + t.faces().len(),
                 edges.len() + 2,
                 "{}",
                 t.id
             );
             // Convex with outward normals: every vertex lies behind every face plane.
-            for f in 0..t.faces.len() {
+            for f in 0..t.faces().len() {
                 let n = t.face_normal(f);
-                let p0 = DVec3::from_array(t.vertices_mm[t.faces[f][0] as usize]);
+                let p0 = DVec3::from_array(t.vertices_mm()[t.faces()[f][0] as usize]);
                 assert!(
                     t.vertices().all(|v| n.dot(v - p0) <= 1e-9),
                     "{} face {f}",

@@ -1,8 +1,11 @@
-//! The scene file (issue #2 contract): JSON with `name`, `blocks` and optional `expect`;
-//! reconstruction files add `status`, `reason` and `csg`; generated files add `meta`.
-//! Unknown fields are errors that name the field.
+//! The scene file (README "Scene files"): JSON with `name`, `blocks` and optional `expect`;
+//! reconstruction files add `status`, `reason`, `csg` and `evidence`; generated files add
+//! `meta`. Unknown fields are errors that name the field.
 
-use super::{block_type, Block, Expect, Orientation, ReconStatus, Scene, SceneError, CATALOG};
+use super::{
+    block_type, Block, CsgNode, Evidence, Expect, Orientation, ReconStatus, Reconstruction, Scene,
+    SceneError, CATALOG,
+};
 use crate::geom::DVec3;
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
@@ -20,7 +23,9 @@ struct SceneFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     reason: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    csg: Option<serde_json::Value>,
+    csg: Option<CsgNode>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    evidence: Option<Evidence>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     meta: Option<serde_json::Map<String, serde_json::Value>>,
 }
@@ -38,19 +43,44 @@ struct BlockEntry {
 }
 
 /// Parses and validates a scene from JSON text; `source_name` (usually the path) names the
-/// input in every error.
+/// input in every error. Reconstruction fields (`status`, `reason`, `csg`, `evidence`) are
+/// refused: read such a file with [`parse_reconstruction`].
 pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
-    let scene = parse_scene_unvalidated(text, source_name)?;
+    let (file, blocks) = parse_file(text, source_name)?;
+    let recon_field = [
+        ("status", file.status.is_some()),
+        ("reason", file.reason.is_some()),
+        ("csg", file.csg.is_some()),
+        ("evidence", file.evidence.is_some()),
+    ]
+    .into_iter()
+    .find(|(_, present)| *present);
+    if let Some((field, _)) = recon_field {
+        return Err(SceneError::Format {
+            source_name: source_name.to_string(),
+            message: format!(
+                "`{field}` belongs to reconstruction files, not scenes (give this file as a \
+                 reconstruction, e.g. the second argument of `blockworld score`)"
+            ),
+        });
+    }
+    let scene = Scene {
+        name: file.name,
+        blocks,
+        expect: file.expect,
+        meta: file.meta,
+    };
     scene.validate(source_name)?;
     Ok(scene)
 }
 
-/// Parses a reconstruction file (issue #4): the scene format, but a recognizer's output is
-/// scored, not rejected, so blocks may overlap each other or dip below the floor. Non-finite
-/// poses are still errors.
-pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Scene, SceneError> {
-    let scene = parse_scene_unvalidated(text, source_name)?;
-    for (index, b) in scene.blocks.iter().enumerate() {
+/// Parses a reconstruction file: the scene format plus `status` (default `ok`, so a scene
+/// scores against itself), `reason`, `csg` and `evidence`. A recognizer's output is scored,
+/// not rejected, so blocks may overlap each other or dip below the floor; non-finite poses and
+/// CSG leaves naming missing blocks are errors.
+pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Reconstruction, SceneError> {
+    let (file, blocks) = parse_file(text, source_name)?;
+    for (index, b) in blocks.iter().enumerate() {
         if !(b.center_mm.is_finite() && b.rotation().is_finite()) {
             return Err(SceneError::NotFinite {
                 source_name: source_name.to_string(),
@@ -58,11 +88,33 @@ pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Scene, Scen
             });
         }
     }
-    Ok(scene)
+    if let Some(leaf) = file
+        .csg
+        .as_ref()
+        .and_then(|t| t.leaves().into_iter().find(|&i| i >= blocks.len()))
+    {
+        return Err(SceneError::Format {
+            source_name: source_name.to_string(),
+            message: format!(
+                "csg names block {leaf} but the file has {} blocks; CSG leaves are indices \
+                 into `blocks`",
+                blocks.len()
+            ),
+        });
+    }
+    Ok(Reconstruction {
+        name: file.name,
+        blocks,
+        status: file.status.unwrap_or(ReconStatus::Ok),
+        reason: file.reason,
+        csg: file.csg,
+        evidence: file.evidence,
+        meta: file.meta,
+    })
 }
 
 /// Reads and parses a reconstruction file (see [`parse_reconstruction`]).
-pub fn read_reconstruction(path: &Path) -> Result<Scene, SceneError> {
+pub fn read_reconstruction(path: &Path) -> Result<Reconstruction, SceneError> {
     parse_reconstruction(&read_text(path)?, &path.display().to_string())
 }
 
@@ -73,7 +125,7 @@ fn read_text(path: &Path) -> Result<String, SceneError> {
     })
 }
 
-fn parse_scene_unvalidated(text: &str, source_name: &str) -> Result<Scene, SceneError> {
+fn parse_file(text: &str, source_name: &str) -> Result<(SceneFile, Vec<Block>), SceneError> {
     let file: SceneFile = serde_json::from_str(text).map_err(|e| SceneError::Format {
         source_name: source_name.to_string(),
         message: e.to_string(),
@@ -84,16 +136,7 @@ fn parse_scene_unvalidated(text: &str, source_name: &str) -> Result<Scene, Scene
         .enumerate()
         .map(|(index, entry)| block_from_entry(entry, index, source_name))
         .collect::<Result<Vec<_>, _>>()?;
-    let scene = Scene {
-        name: file.name,
-        blocks,
-        expect: file.expect,
-        status: file.status,
-        reason: file.reason,
-        csg: file.csg,
-        meta: file.meta,
-    };
-    Ok(scene)
+    Ok((file, blocks))
 }
 
 fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Block, SceneError> {
@@ -135,36 +178,67 @@ fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Bl
     })
 }
 
+fn block_entries(blocks: &[Block]) -> Vec<BlockEntry> {
+    blocks
+        .iter()
+        .map(|b| {
+            let (yaw_deg, rotation) = match b.orientation {
+                Orientation::YawDeg(d) => (Some(d), None),
+                Orientation::Quaternion(q) => (None, Some(q.to_array())),
+            };
+            BlockEntry {
+                type_id: b.block_type.id.to_string(),
+                center: b.center_mm.to_array(),
+                yaw_deg,
+                rotation,
+            }
+        })
+        .collect()
+}
+
+fn file_to_json(file: &SceneFile) -> String {
+    let mut s = serde_json::to_string_pretty(file).expect("scene serializes");
+    s.push('\n');
+    s
+}
+
 /// Serializes a scene as pretty JSON (one stable field order; the same scene gives the same
 /// bytes).
 pub fn scene_to_json(scene: &Scene) -> String {
-    let file = SceneFile {
+    file_to_json(&SceneFile {
         name: scene.name.clone(),
-        blocks: scene
-            .blocks
-            .iter()
-            .map(|b| {
-                let (yaw_deg, rotation) = match b.orientation {
-                    Orientation::YawDeg(d) => (Some(d), None),
-                    Orientation::Quaternion(q) => (None, Some(q.to_array())),
-                };
-                BlockEntry {
-                    type_id: b.block_type.id.to_string(),
-                    center: b.center_mm.to_array(),
-                    yaw_deg,
-                    rotation,
-                }
-            })
-            .collect(),
+        blocks: block_entries(&scene.blocks),
         expect: scene.expect.clone(),
-        status: scene.status,
-        reason: scene.reason.clone(),
-        csg: scene.csg.clone(),
+        status: None,
+        reason: None,
+        csg: None,
+        evidence: None,
         meta: scene.meta.clone(),
-    };
-    let mut s = serde_json::to_string_pretty(&file).expect("scene serializes");
-    s.push('\n');
-    s
+    })
+}
+
+/// Serializes a reconstruction as pretty JSON: the scene format plus its fields.
+pub fn reconstruction_to_json(recon: &Reconstruction) -> String {
+    file_to_json(&SceneFile {
+        name: recon.name.clone(),
+        blocks: block_entries(&recon.blocks),
+        expect: None,
+        status: Some(recon.status),
+        reason: recon.reason.clone(),
+        csg: recon.csg.clone(),
+        evidence: recon.evidence.clone(),
+        meta: recon.meta.clone(),
+    })
+}
+
+/// Writes a reconstruction file atomically (temporary name, then rename).
+pub fn write_reconstruction(path: &Path, recon: &Reconstruction) -> Result<(), SceneError> {
+    crate::io::write_atomic(path, reconstruction_to_json(recon).as_bytes()).map_err(|source| {
+        SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
 }
 
 /// Reads, parses and validates a scene file.

@@ -2,21 +2,24 @@
 //! scene-file format that every later stage reads, and its validation.
 //!
 //! A [`Scene`] is plain data. `scene::file` reads and writes it as JSON (the contract of
-//! issue #2, documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
+//! README "Rendering", documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
 //! blocks that overlap or sink below the floor, NaN poses.
 
 mod catalog;
 mod error;
 mod file;
+mod reconstruction;
 mod sat;
 
-pub use catalog::{block_type, BlockType, CATALOG};
+pub use catalog::{block_type, BlockType, ConvexPolyhedron, Shape, CATALOG};
 pub use error::SceneError;
 pub use file::{
-    parse_reconstruction, parse_scene, read_reconstruction, read_scene, scene_to_json, write_scene,
+    parse_reconstruction, parse_scene, read_reconstruction, read_scene, reconstruction_to_json,
+    scene_to_json, write_reconstruction, write_scene,
 };
+pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
-use crate::geom::{DVec3, CONTACT_TOL_MM};
+use crate::geom::{bounds3, DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
@@ -89,6 +92,36 @@ impl Block {
     pub fn volume_mm3(&self) -> f64 {
         self.block_type.volume_mm3()
     }
+
+    /// Height of its lowest vertex above the floor, mm: where it rests.
+    pub fn bottom_mm(&self) -> f64 {
+        self.world_vertices()
+            .iter()
+            .map(|v| v.y)
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The layers of a stack (Chapter V: "classify the number of levels"): the distinct resting
+/// heights of block bottoms, ascending. Sorted bottoms join the current layer while within
+/// `tol_mm` of its lowest bottom; a higher one starts the next layer. The one home of layer
+/// counting: settling, scoring and the recognizer use it.
+pub fn layer_bottoms_mm(blocks: &[Block], tol_mm: f64) -> Vec<f64> {
+    let mut sorted: Vec<f64> = blocks.iter().map(Block::bottom_mm).collect();
+    sorted.sort_by(f64::total_cmp);
+    let mut layers: Vec<f64> = Vec::new();
+    for b in sorted {
+        if layers.last().is_none_or(|&d| b - d > tol_mm) {
+            layers.push(b);
+        }
+    }
+    layers
+}
+
+/// The layer of a block whose bottom is `bottom_mm`: how many layers of `layers` (from
+/// [`layer_bottoms_mm`]) lie more than `tol_mm` below it (0 on the floor).
+pub fn layer_index(layers: &[f64], bottom_mm: f64, tol_mm: f64) -> usize {
+    layers.iter().filter(|&&d| bottom_mm - d > tol_mm).count()
 }
 
 /// What the thesis's method is expected to do with a scene (Chapter VII constraints).
@@ -102,17 +135,8 @@ pub struct Expect {
     pub reason: Option<String>,
 }
 
-/// A reconstruction's verdict on a scene (issue #4: reconstruction files add `status`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ReconStatus {
-    /// The recognizer produced blocks.
-    Ok,
-    /// The recognizer declined the scene (with a `reason`).
-    Unsupported,
-}
-
-/// A scene: blocks on the floor plus optional expectation and reconstruction metadata.
+/// A scene: blocks on the floor plus an optional expectation and provenance. A recognizer's
+/// answer is a [`Reconstruction`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     /// A short name (`"two_layer"`).
@@ -121,12 +145,6 @@ pub struct Scene {
     pub blocks: Vec<Block>,
     /// Whether the thesis's method covers the scene.
     pub expect: Option<Expect>,
-    /// Set on reconstruction files only.
-    pub status: Option<ReconStatus>,
-    /// Why a reconstruction is `unsupported`, or other remarks.
-    pub reason: Option<String>,
-    /// A reconstruction's CSG tree (Chapter IV, Figure 4.6), kept as written.
-    pub csg: Option<serde_json::Value>,
     /// Free-form provenance (generator family, seed, settling report), kept as written.
     pub meta: Option<serde_json::Map<String, serde_json::Value>>,
 }
@@ -138,9 +156,6 @@ impl Scene {
             name: name.into(),
             blocks,
             expect: None,
-            status: None,
-            reason: None,
-            csg: None,
             meta: None,
         }
     }
@@ -152,13 +167,7 @@ impl Scene {
 
     /// World-space axis-aligned bounds (min, max) of all blocks, in mm; `None` when empty.
     pub fn bounds_mm(&self) -> Option<(DVec3, DVec3)> {
-        self.blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .fold(None, |acc, v| match acc {
-                None => Some((v, v)),
-                Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
-            })
+        bounds3(self.blocks.iter().flat_map(|b| b.world_vertices()))
     }
 
     /// Checks that every block is finite, rests on or above the floor and overlaps no other

@@ -35,7 +35,7 @@ pub fn penetration_depth_mm(a: &Block, b: &Block) -> f64 {
 }
 
 fn candidate_axes<'a>(b: &'a Block, _v: &[DVec3]) -> impl Iterator<Item = DVec3> + 'a {
-    (0..b.block_type.faces.len()).map(move |f| b.world_face_normal(f))
+    (0..b.block_type.faces().len()).map(move |f| b.world_face_normal(f))
 }
 
 fn edge_dirs(b: &Block, v: &[DVec3]) -> Vec<DVec3> {

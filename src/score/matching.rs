@@ -126,25 +126,7 @@ pub fn match_blocks(
 /// Number of layers: distinct resting heights of block bottoms (lowest vertex y), heights
 /// within `tol_mm` of the previous one in sorted order joining the same layer.
 pub fn count_layers(blocks: &[Block], tol_mm: f64) -> usize {
-    let mut bottoms: Vec<f64> = blocks
-        .iter()
-        .map(|b| {
-            b.world_vertices()
-                .iter()
-                .map(|v| v.y)
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect();
-    bottoms.sort_by(f64::total_cmp);
-    let mut layers = 0;
-    let mut last = f64::NEG_INFINITY;
-    for y in bottoms {
-        if y - last > tol_mm {
-            layers += 1;
-        }
-        last = y;
-    }
-    layers
+    crate::scene::layer_bottoms_mm(blocks, tol_mm).len()
 }
 
 #[cfg(test)]

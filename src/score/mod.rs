@@ -1,4 +1,4 @@
-//! Scoring reconstructions against ground truth with parry3d volume overlap (issue #4).
+//! Scoring reconstructions against ground truth with parry3d volume overlap.
 //! The only home of parry3d.
 //!
 //! The thesis ends by reconstructing "the final object … from the primitive blocks"
@@ -34,7 +34,7 @@ pub use reference::{
 };
 pub use suite::{
     check_gate, scene_family, score_suite_scene, summarize_by_family, FamilySummary, GateFailure,
-    Golden, GoldenScene, SceneResult, BLESS_COMMAND,
+    Golden, GoldenScene, NoReconstruction, SceneResult, BLESS_COMMAND,
 };
 pub use verdict::{
     score_reconstruction, score_reconstruction_with_options, Score, ScoreOptions, Verdict,
@@ -59,6 +59,9 @@ pub enum ScoreError {
         /// The limit that was hit.
         limit: usize,
     },
+    /// A CSG tree that is not a union of blocks (scoring measures the union of `blocks`).
+    #[error("the reconstruction's csg holds a difference or intersection; scoring measures the union of its blocks, so give a union tree (or none)")]
+    NotAUnion,
     /// parry3d's convex hull failed on an overlap's points (a parry bug; report the scene).
     #[error("convex hull of an overlap failed in parry3d: {0}")]
     Hull(String),

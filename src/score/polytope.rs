@@ -1,6 +1,5 @@
 //! Convex polytopes in world millimetres and the exact volume of their intersection through
-//! parry3d's convex hull (the route measured in `shared/notes/dependencies.md`, "parry3d 0.31.1:
-//! exact overlap volume": within 5e-7 relative of an f64 clipper; `intersect_meshes` is wrong
+//! parry3d's convex hull (the route measured in README "Dependencies": within 5e-7 relative of an f64 clipper; `intersect_meshes` is wrong
 //! whenever faces are coplanar, which is the normal case for blocks, so it is not used).
 //!
 //! The intersection of two convex polytopes A and B is convex, and each of its vertices lies on
@@ -11,7 +10,7 @@
 //! is again a [`ConvexPolytope`] (triangles as faces), so k-fold intersections chain.
 
 use super::{ScoreError, VolumeTolerances};
-use crate::geom::DVec3;
+use crate::geom::{bounds3, DVec3};
 use crate::scene::Block;
 use parry3d::math::Vector as PVec;
 
@@ -36,10 +35,10 @@ impl ConvexPolytope {
             .iter()
             .map(|&(a, b, _, _)| [a, b])
             .collect();
-        let planes = (0..block.block_type.faces.len())
+        let planes = (0..block.block_type.faces().len())
             .map(|f| {
                 let n = block.world_face_normal(f);
-                let p0 = vertices[block.block_type.faces[f][0] as usize];
+                let p0 = vertices[block.block_type.faces()[f][0] as usize];
                 (n, n.dot(p0))
             })
             .collect();
@@ -47,10 +46,8 @@ impl ConvexPolytope {
     }
 
     fn new(vertices: Vec<DVec3>, edges: Vec<[usize; 2]>, planes: Vec<(DVec3, f64)>) -> Self {
-        let (lo, hi) = vertices.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-        );
+        let (lo, hi) = bounds3(vertices.iter().copied())
+            .unwrap_or((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)));
         ConvexPolytope {
             vertices,
             edges,

@@ -11,7 +11,7 @@
 //! with the expectation's reason, as a recognizer that knows its Chapter VII limits would say.
 
 use crate::geom::DVec3;
-use crate::scene::{Block, Orientation, ReconStatus, Scene};
+use crate::scene::{Block, Orientation, Reconstruction, Scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -21,7 +21,7 @@ pub const READING_ERROR_MM: f64 = 0.02;
 pub const READING_ERROR_DEG: f64 = 0.1;
 
 /// Reference reconstructions for a suite of `(id, truth)` pairs, in the same order.
-pub fn make_reference_reconstructions(suite: &[(String, Scene)]) -> Vec<(String, Scene)> {
+pub fn make_reference_reconstructions(suite: &[(String, Scene)]) -> Vec<(String, Reconstruction)> {
     let mut ids: Vec<&(String, Scene)> = suite
         .iter()
         .filter(|(_, s)| s.is_supported() && s.blocks.len() >= 3)
@@ -41,10 +41,11 @@ pub fn make_reference_reconstructions(suite: &[(String, Scene)]) -> Vec<(String,
 
 /// The reference reconstruction of one scene (see the module doc); `partial` drops the highest
 /// block.
-pub fn make_reference_reconstruction(id: &str, truth: &Scene, partial: bool) -> Scene {
-    let mut recon = Scene::new(truth.name.clone(), Vec::new());
+pub fn make_reference_reconstruction(id: &str, truth: &Scene, partial: bool) -> Reconstruction {
+    let mut recon = Reconstruction::ok(truth.name.clone(), Vec::new());
+    recon.csg = None;
     if !truth.is_supported() {
-        recon.status = Some(ReconStatus::Unsupported);
+        recon.status = crate::scene::ReconStatus::Unsupported;
         let why = truth
             .expect
             .as_ref()
@@ -54,7 +55,6 @@ pub fn make_reference_reconstruction(id: &str, truth: &Scene, partial: bool) -> 
         return recon;
     }
     let mut rng = ChaCha8Rng::seed_from_u64(fnv1a(id));
-    recon.status = Some(ReconStatus::Ok);
     recon.blocks = truth
         .blocks
         .iter()
@@ -84,10 +84,9 @@ pub fn make_reference_reconstruction(id: &str, truth: &Scene, partial: bool) -> 
     recon
 }
 
-/// The block's heading: the angle of its local +x axis about +y, degrees (tilt ignored).
+/// The block's heading, degrees (tilt ignored).
 fn yaw_deg(b: &Block) -> f64 {
-    let x = b.rotation() * DVec3::X;
-    (-x.z).atan2(x.x).to_degrees()
+    crate::geom::heading_deg(b.rotation())
 }
 
 fn round6(v: f64) -> f64 {

@@ -1,9 +1,9 @@
 //! The accuracy suite: per-scene results, per-family summaries, and the golden gate that CI
-//! enforces (issue #4; style.md §4 "expected failures": a scene marked unsupported that starts
+//! enforces (README "Scoring and the accuracy suite"; a scene marked unsupported that starts
 //! passing is itself a failure until someone changes its mark on purpose).
 
 use super::verdict::{score_reconstruction_with_options, ScoreOptions, Verdict};
-use crate::scene::Scene;
+use crate::scene::{Reconstruction, Scene};
 use serde::{Deserialize, Serialize};
 
 /// One suite scene's result.
@@ -58,16 +58,22 @@ pub fn scene_family(scene: &Scene) -> String {
     }
 }
 
-/// Scores one suite scene. `recon` is `Err(note)` when there is no usable reconstruction (a
-/// missing or unreadable file); that counts as `failed`.
+/// Why a suite scene has no reconstruction to score (a missing or unreadable file, a recognizer
+/// that failed): counted as `failed`, with this note.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct NoReconstruction(pub String);
+
+/// Scores one suite scene; a missing reconstruction counts as `failed`.
 pub fn score_suite_scene(
     id: &str,
     truth: &Scene,
-    recon: Result<&Scene, String>,
+    recon: Result<&Reconstruction, NoReconstruction>,
     opts: &ScoreOptions,
 ) -> SceneResult {
     let supported = truth.is_supported();
     let scored = recon
+        .map_err(|e| e.0)
         .and_then(|r| score_reconstruction_with_options(truth, r, opts).map_err(|e| e.to_string()));
     let (verdict, iou, f1, mean_center_error_mm, layers_right, note) = match scored {
         Ok(s) => (
@@ -165,7 +171,7 @@ pub struct GoldenScene {
 pub struct Golden {
     /// How the file is re-blessed (for a reader of the file).
     pub bless: String,
-    /// An IoU may fall at most this far below its golden value. 0.01 (issue #4).
+    /// An IoU may fall at most this far below its golden value. 0.01 (README "Scoring and the accuracy suite").
     pub iou_drop_tolerance: f64,
     /// The scenes, sorted by id.
     pub scenes: Vec<GoldenScene>,
@@ -324,7 +330,7 @@ mod tests {
         let r = score_suite_scene(
             "yaw_000",
             &truth,
-            Err("no file".into()),
+            Err(NoReconstruction("no file".into())),
             &ScoreOptions::default(),
         );
         assert_eq!(

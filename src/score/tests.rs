@@ -1,10 +1,10 @@
 //! Cross-checks of the exact volumes: an independent f64 convex clipper (Sutherland–Hodgman on
 //! faces, divergence theorem) and a Monte Carlo estimate through parry point containment, on
-//! seeded random poses; plus the hand-computed cases of issue #4.
+//! seeded random poses; plus the hand-computed cases of README "Scoring and the accuracy suite".
 
 use super::*;
 use crate::geom::{DQuat, DVec3};
-use crate::scene::{Block, Orientation, Scene};
+use crate::scene::{Block, Orientation, Reconstruction, Scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -14,7 +14,7 @@ type Faces = Vec<Vec<DVec3>>;
 fn faces_of(b: &Block) -> Faces {
     let v = b.world_vertices();
     b.block_type
-        .faces
+        .faces()
         .iter()
         .map(|f| f.iter().map(|&i| v[i as usize]).collect())
         .collect()
@@ -94,9 +94,9 @@ fn faces_volume(faces: &Faces) -> f64 {
 fn clipper_intersection_mm3(a: &Block, b: &Block) -> f64 {
     let v = b.world_vertices();
     let mut faces = faces_of(a);
-    for f in 0..b.block_type.faces.len() {
+    for f in 0..b.block_type.faces().len() {
         let n = b.world_face_normal(f);
-        faces = clip_by_plane(&faces, n, n.dot(v[b.block_type.faces[f][0] as usize]));
+        faces = clip_by_plane(&faces, n, n.dot(v[b.block_type.faces()[f][0] as usize]));
     }
     faces_volume(&faces).max(0.0)
 }
@@ -300,7 +300,8 @@ fn score_reports_matching_layers_and_verdict() {
         Block::new("b15", DVec3::new(-7.5, 22.5, 0.0), 0.0),
         Block::new("b15", DVec3::new(7.5, 22.5, 0.0), 0.0),
     ]);
-    let s = score_reconstruction(&truth, &truth).unwrap();
+    let answer = |s: &Scene| Reconstruction::ok(s.name.clone(), s.blocks.clone());
+    let s = score_reconstruction(&truth, &answer(&truth)).unwrap();
     assert_eq!(
         (s.verdict, s.matched_blocks, s.truth_layers, s.layers_right),
         (Verdict::Exact, 3, 2, true)
@@ -309,27 +310,38 @@ fn score_reports_matching_layers_and_verdict() {
     let mut turned = truth.clone();
     turned.blocks[0] = Block::new("b30", DVec3::new(0.5, 7.5, 0.0), 180.0);
     turned.blocks[1] = Block::new("b15", DVec3::new(-7.5, 22.5, 0.0), 90.0);
-    let s = score_reconstruction(&truth, &turned).unwrap();
+    let s = score_reconstruction(&truth, &answer(&turned)).unwrap();
     assert_eq!(s.matched_blocks, 3);
     assert!((s.mean_center_error_mm.unwrap() - 0.5 / 3.0).abs() < 1e-9);
     // Drop a top block: partial, recall 2/3, layers still right.
     let mut dropped = truth.clone();
     dropped.blocks.pop();
-    let s = score_reconstruction(&truth, &dropped).unwrap();
+    let s = score_reconstruction(&truth, &answer(&dropped)).unwrap();
     assert_eq!(s.verdict, Verdict::Partial);
     assert!((s.recall - 2.0 / 3.0).abs() < 1e-12 && s.precision == 1.0);
     // Empty: failed; declined: unsupported.
     let empty = scene(vec![]);
     assert_eq!(
-        score_reconstruction(&truth, &empty).unwrap().verdict,
+        score_reconstruction(&truth, &answer(&empty))
+            .unwrap()
+            .verdict,
         Verdict::Failed
     );
-    let mut declined = empty.clone();
-    declined.status = Some(crate::scene::ReconStatus::Unsupported);
+    let declined = Reconstruction::unsupported("t", "outside the method");
     assert_eq!(
         score_reconstruction(&truth, &declined).unwrap().verdict,
         Verdict::Unsupported
     );
+    // A CSG with a difference is not scored as a union.
+    let mut carved = answer(&truth);
+    carved.csg = Some(crate::scene::CsgNode::Difference(Box::new([
+        crate::scene::CsgNode::Block(0),
+        crate::scene::CsgNode::Block(1),
+    ])));
+    assert!(matches!(
+        score_reconstruction(&truth, &carved),
+        Err(crate::score::ScoreError::NotAUnion)
+    ));
 }
 
 /// Monte Carlo IoU of two block sets (parry containment), `samples` points in their joint box.

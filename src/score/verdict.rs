@@ -4,7 +4,7 @@
 use super::matching::{count_layers, match_blocks};
 use super::volume::{volume_overlap, VolumeTolerances};
 use super::ScoreError;
-use crate::scene::{ReconStatus, Scene};
+use crate::scene::{ReconStatus, Reconstruction, Scene};
 use serde::{Deserialize, Serialize};
 
 /// Tolerances and bars of [`score_reconstruction_with_options`].
@@ -109,16 +109,21 @@ pub struct Score {
 }
 
 /// Scores `recon` against `truth` with [`ScoreOptions::default`].
-pub fn score_reconstruction(truth: &Scene, recon: &Scene) -> Result<Score, ScoreError> {
+pub fn score_reconstruction(truth: &Scene, recon: &Reconstruction) -> Result<Score, ScoreError> {
     score_reconstruction_with_options(truth, recon, &ScoreOptions::default())
 }
 
-/// Scores `recon` against `truth`.
+/// Scores `recon` against `truth`. The reconstruction's solid is the union of its blocks
+/// (the thesis's CSG adds blocks together, Figure 4.6); a CSG tree with differences or
+/// intersections is refused rather than scored as something it is not.
 pub fn score_reconstruction_with_options(
     truth: &Scene,
-    recon: &Scene,
+    recon: &Reconstruction,
     opts: &ScoreOptions,
 ) -> Result<Score, ScoreError> {
+    if recon.csg.as_ref().is_some_and(|t| !t.is_pure_union()) {
+        return Err(ScoreError::NotAUnion);
+    }
     let overlap = volume_overlap(&truth.blocks, &recon.blocks, &opts.volume)?;
     let iou = overlap.iou();
     let matches = match_blocks(
@@ -150,7 +155,7 @@ pub fn score_reconstruction_with_options(
         (nm > 0).then(|| matches.iter().map(|m| m.center_error_mm).sum::<f64>() / nm as f64);
     let truth_layers = count_layers(&truth.blocks, opts.layer_tol_mm);
     let recon_layers = count_layers(&recon.blocks, opts.layer_tol_mm);
-    let verdict = if recon.status == Some(ReconStatus::Unsupported) {
+    let verdict = if recon.status == ReconStatus::Unsupported {
         Verdict::Unsupported
     } else if nr == 0 && nt > 0 || iou < opts.failed_below_iou {
         Verdict::Failed

@@ -44,7 +44,7 @@ impl Default for VolumeTolerances {
 
 /// Volume IoU of two scenes' solids (each the union of its blocks), with default tolerances:
 /// volume(truth ∩ recon) / volume(truth ∪ recon). Exact for convex blocks in any pose.
-/// Both empty gives 1.0. Issue #4; the thesis reconstructs "the final object … from the
+/// Both empty gives 1.0. The thesis reconstructs "the final object … from the
 /// primitive blocks" (Ch. VII), and this measures how much of it is right.
 pub fn volume_iou(truth: &Scene, recon: &Scene) -> Result<f64, ScoreError> {
     volume_iou_with_tolerances(truth, recon, &VolumeTolerances::default())

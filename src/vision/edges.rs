@@ -2,7 +2,7 @@
 //! Figure 2.7 kernels), 3x3 mean smoothing and a threshold (Chapter VI, "The Effect of the Sobel
 //! Operator"), giving a binary edge map.
 //!
-//! Readings (shared/notes/thesis-reading.md): eq. 2.1b prints `- f(m-1,n+1)`; the Figure 2.7
+//! Readings (README "Thesis readings"): eq. 2.1b prints `- f(m-1,n+1)`; the Figure 2.7
 //! kernel and symmetry say `+`, which is what is computed here. The border is handled by
 //! repeating the edge pixel, which reproduces the thesis's 3x11 worked example exactly.
 //!

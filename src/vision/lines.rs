@@ -21,8 +21,9 @@
 //! Lines in other directions (a block turned about the vertical, a wedge's slope) are not
 //! found: the thesis's method assumes blocks aligned with the views (Ch. VII).
 
+use crate::camera::Camera;
+use crate::drawing::EdgeAxis;
 use crate::geom::{DVec2, DVec3};
-use crate::render::Camera;
 use image::GrayImage;
 
 /// Options of the line finder; every length is in picture pixels.
@@ -62,8 +63,8 @@ impl Default for LineOptions {
 /// A straight line fitted by least squares to the edge pixels of one segment (Ch. VI).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FittedLine {
-    /// Which of the three picture directions seeded it (index into [`picture_directions`]).
-    pub orientation: usize,
+    /// The world axis whose picture direction seeded it.
+    pub axis: EdgeAxis,
     /// Centroid of the supporting pixels, picture px (x right, y up).
     pub centroid_px: DVec2,
     /// Unit direction of the fitted line, picture px.
@@ -95,10 +96,10 @@ impl FittedLine {
     }
 }
 
-/// The three picture directions of block edges in `camera` (unit vectors, picture px, y up):
-/// `[vertical, world x, world z]`, each the projection of a short world step at the scene centre
-/// (`camera.target_mm`) through `picture_from_world`; each is made to point up or right.
-pub fn picture_directions(camera: &Camera) -> [DVec2; 3] {
+/// The picture directions of block edges along `axes` in `camera` (unit vectors, picture px,
+/// y up), each the projection of a short world step at the scene centre (`camera.target_mm`)
+/// through `picture_from_world`; each is made to point up or right.
+pub fn picture_directions(camera: &Camera, axes: &[EdgeAxis]) -> Vec<DVec2> {
     let c = DVec3::from_array(camera.target_mm);
     let base = camera.picture_from_world(c).truncate();
     let step_mm = 1.0;
@@ -115,11 +116,16 @@ pub fn picture_directions(camera: &Camera) -> [DVec2; 3] {
             v
         }
     };
-    [
-        project(DVec3::Y, DVec2::Y),
-        project(DVec3::X, DVec2::new(0.866, 0.5)),
-        project(DVec3::Z, DVec2::new(-0.866, 0.5)),
-    ]
+    axes.iter()
+        .map(|a| {
+            let fallback = match a {
+                EdgeAxis::WorldX => DVec2::new(0.866, 0.5),
+                EdgeAxis::WorldZ => DVec2::new(-0.866, 0.5),
+                _ => DVec2::Y,
+            };
+            project(a.world_direction(), fallback)
+        })
+        .collect()
 }
 
 /// How the block edges along one world axis run in the picture: all parallel (orthographic
@@ -160,14 +166,14 @@ impl EdgeDirection {
     }
 }
 
-/// The three [`EdgeDirection`]s of block edges in `camera`: `[vertical, world x, world z]`.
-/// Each world axis `d` maps to the clip-space vector `C (d, 0)`: when its `w` is zero (always
-/// for orthographic cameras) the edges are parallel, otherwise they meet at the vanishing point
+/// The [`EdgeDirection`]s of block edges along `axes` in `camera`, with their axes. Each world
+/// axis `d` maps to the clip-space vector `C (d, 0)`: when its `w` is zero (always for
+/// orthographic cameras) the edges are parallel, otherwise they meet at the vanishing point
 /// `C (d, 0)` in normalized device coordinates.
-pub fn edge_directions(camera: &Camera) -> [EdgeDirection; 3] {
+pub fn edge_directions(camera: &Camera, axes: &[EdgeAxis]) -> Vec<(EdgeAxis, EdgeDirection)> {
     let c = camera.clip_from_world();
     let [w, h] = [f64::from(camera.size_px[0]), f64::from(camera.size_px[1])];
-    let fallback = picture_directions(camera);
+    let fallback = picture_directions(camera, axes);
     let one = |d: DVec3, k: usize| {
         let v = c * d.extend(0.0);
         let screen = DVec2::new(v.x * w / 2.0, v.y * h / 2.0);
@@ -182,7 +188,21 @@ pub fn edge_directions(camera: &Camera) -> [EdgeDirection; 3] {
             EdgeDirection::Parallel(fallback[k])
         }
     };
-    [one(DVec3::Y, 0), one(DVec3::X, 1), one(DVec3::Z, 2)]
+    axes.iter()
+        .enumerate()
+        .map(|(k, a)| (*a, one(a.world_direction(), k)))
+        .collect()
+}
+
+/// The block edge directions of an ideal isometric corner view without a camera at hand: vertical
+/// and 30 degrees either side of horizontal (Chapter V's 45-degree views), all parallel.
+pub fn isometric_edge_directions() -> Vec<(EdgeAxis, EdgeDirection)> {
+    let s = 3f64.sqrt() / 2.0;
+    let dirs = [DVec2::Y, DVec2::new(s, 0.5), DVec2::new(-s, 0.5)];
+    EdgeAxis::BLOCK_AXES
+        .into_iter()
+        .zip(dirs.map(EdgeDirection::Parallel))
+        .collect()
 }
 
 /// Picture coordinates (px, y up) of the centre of raster pixel `(col, row)` in an image of
@@ -270,13 +290,13 @@ fn supports(
 /// (Ch. VI). Segments are sorted by direction, then offset, then position; deterministic.
 pub fn fit_lines(
     edges: &GrayImage,
-    directions: &[EdgeDirection; 3],
+    directions: &[(EdgeAxis, EdgeDirection)],
     opts: &LineOptions,
 ) -> Vec<FittedLine> {
     let (w, h) = edges.dimensions();
     let raw = edges.as_raw();
     let mut lines = Vec::new();
-    for (k, dir) in directions.iter().enumerate() {
+    for (k, dir) in directions.iter() {
         let ok = match *dir {
             EdgeDirection::Parallel(u) => u.is_finite() && u.length_squared() > 0.5,
             EdgeDirection::Vanishing(vp) => vp.is_finite(),
@@ -298,7 +318,7 @@ pub fn fit_lines(
             radius,
         };
         let votes = collect_votes(raw, w, h, &frame, opts);
-        lines.extend(lines_from_votes(votes, k, &frame, opts));
+        lines.extend(lines_from_votes(votes, *k, &frame, opts));
     }
     lines
 }
@@ -386,7 +406,7 @@ fn vote_peaks(votes: &[Vote], rho_min: f64, bins: usize, opts: &LineOptions) -> 
 
 fn lines_from_votes(
     votes: Vec<Vote>,
-    k: usize,
+    k: EdgeAxis,
     frame: &VoteFrame,
     opts: &LineOptions,
 ) -> Vec<FittedLine> {
@@ -450,7 +470,7 @@ fn lines_from_votes(
     out
 }
 
-fn fit_segment(points: &[DVec2], k: usize, u: DVec2, max_turn_deg: f64) -> Option<FittedLine> {
+fn fit_segment(points: &[DVec2], k: EdgeAxis, u: DVec2, max_turn_deg: f64) -> Option<FittedLine> {
     let (c, mut dir, rms) = fit_line_least_squares(points)?;
     if dir.dot(u) < 0.0 {
         dir = -dir;
@@ -465,7 +485,7 @@ fn fit_segment(points: &[DVec2], k: usize, u: DVec2, max_turn_deg: f64) -> Optio
         hi = hi.max(t);
     }
     Some(FittedLine {
-        orientation: k,
+        axis: k,
         centroid_px: c,
         direction: dir,
         from_px: c + dir * lo,
@@ -671,11 +691,13 @@ mod tests {
 
     #[test]
     fn isometric_views_have_vertical_and_thirty_degree_directions() {
-        use crate::render::{CameraOptions, CornerView};
+        use crate::camera::{CameraOptions, CornerView};
         let pts = [DVec3::new(-7.5, 0.0, -7.5), DVec3::new(7.5, 15.0, 7.5)];
         for view in CornerView::ALL {
             let cam = Camera::frame(&pts, view, &CameraOptions::default());
-            let [v, a, b] = picture_directions(&cam);
+            let [v, a, b] = picture_directions(&cam, &EdgeAxis::BLOCK_AXES)[..] else {
+                unreachable!()
+            };
             assert!(v.distance(DVec2::Y) < 1e-9, "{view:?} {v}");
             for d in [a, b] {
                 let deg = d.y.atan2(d.x.abs()).to_degrees();
@@ -693,10 +715,11 @@ mod tests {
         });
         let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)]
             .map(EdgeDirection::Parallel);
+        let dirs: Vec<_> = EdgeAxis::BLOCK_AXES.into_iter().zip(dirs).collect();
         let lines = fit_lines(&edges, &dirs, &LineOptions::default());
         assert_eq!(lines.len(), 1, "{lines:?}");
         let l = lines[0];
-        assert_eq!(l.orientation, 0);
+        assert_eq!(l.axis, EdgeAxis::Vertical);
         assert!((l.centroid_px.x - 11.0).abs() < 1e-9, "{l:?}");
         assert!(l.direction.x.abs() < 1e-9);
         assert!(l.length_px() > 25.0);

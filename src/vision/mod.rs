@@ -1,4 +1,4 @@
-//! The vision front end (issue #5): the thesis's image stage, from a grayscale corner view to a
+//! The vision front end (README "Vision front end"): the thesis's image stage, from a grayscale corner view to a
 //! line drawing with six-bit codes.
 //!
 //! 1. [`sobel_magnitude`], [`smooth_3x3`], [`threshold`]: the Sobel operator of Chapter II
@@ -31,13 +31,14 @@ pub use eval::{
     VertexMatch,
 };
 pub use lines::{
-    edge_directions, fit_line_least_squares, fit_lines, picture_directions, picture_from_raster,
-    refine_lines_on_seams, EdgeDirection, FittedLine, LineOptions,
+    edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,
+    picture_directions, picture_from_raster, refine_lines_on_seams, EdgeDirection, FittedLine,
+    LineOptions,
 };
 pub use vertices::{find_vertices, VertexOptions};
 
-use crate::drawing::LineDrawing;
-use crate::render::Camera;
+use crate::camera::Camera;
+use crate::drawing::{EdgeAxis, LineDrawing};
 use image::GrayImage;
 
 /// Largest picture side accepted, px (the renderer's `--size` limit). Larger pictures get
@@ -103,7 +104,7 @@ pub fn detect_line_drawing(
     check_picture(image, camera)?;
     Ok(detect_with_directions(
         image,
-        &edge_directions(camera),
+        &edge_directions(camera, &EdgeAxis::BLOCK_AXES),
         opts,
     ))
 }
@@ -111,7 +112,7 @@ pub fn detect_line_drawing(
 /// Steps 1-3 with the three picture directions given (no camera check).
 pub fn detect_with_directions(
     image: &GrayImage,
-    directions: &[EdgeDirection; 3],
+    directions: &[(EdgeAxis, EdgeDirection)],
     opts: &VisionOptions,
 ) -> Detection {
     let (_, edges) = detect_edges(image, &opts.edges);

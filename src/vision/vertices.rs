@@ -12,7 +12,7 @@
 
 use super::lines::FittedLine;
 use crate::drawing::LineDrawing;
-use crate::geom::DVec2;
+use crate::geom::{DVec2, UnionFind};
 
 /// Options of the vertex finder, in picture pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,25 +43,6 @@ fn intersect(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
     }
     let t = (b.centroid_px - a.centroid_px).perp_dot(b.direction) / den;
     Some(a.centroid_px + a.direction * t)
-}
-
-/// Union-find over junction candidates.
-struct Sets(Vec<usize>);
-
-impl Sets {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
-        }
-        i
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            self.0[a.max(b)] = a.min(b);
-        }
-    }
 }
 
 /// The point nearest in least squares to all `lines` (by index into `all`); the mean of
@@ -119,12 +100,12 @@ fn drop_junction_blobs(lines: &[FittedLine], opts: &VertexOptions) -> Vec<Fitted
         let others: Vec<&FittedLine> = lines
             .iter()
             .enumerate()
-            .filter(|&(j, l)| j != i && l.orientation != s.orientation && near(l))
+            .filter(|&(j, l)| j != i && l.axis != s.axis && near(l))
             .map(|(_, l)| l)
             .collect();
         others.iter().enumerate().any(|(a, la)| {
             others[a + 1..].iter().any(|lb| {
-                la.orientation != lb.orientation
+                la.axis != lb.axis
                     && intersect(la, lb).is_some_and(|p| p.distance(mid) <= opts.join_radius_px)
             })
         })
@@ -164,7 +145,7 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
         }
     }
     // 2. Group: candidates sharing a segment end, or close together, are one vertex.
-    let mut sets = Sets((0..cands.len()).collect());
+    let mut sets = UnionFind::new(cands.len());
     let mut by_end: Vec<Option<usize>> = vec![None; lines.len() * 2];
     for (ci, c) in cands.iter().enumerate() {
         let key = c.line * 2 + c.end;
@@ -288,12 +269,13 @@ fn compact(points: Vec<DVec2>, lines: Vec<[usize; 2]>) -> LineDrawing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drawing::Junction;
+    use crate::drawing::{EdgeAxis, Junction};
 
     fn seg(k: usize, a: DVec2, b: DVec2) -> FittedLine {
+        let k = EdgeAxis::BLOCK_AXES[k];
         let d = (b - a).normalize();
         FittedLine {
-            orientation: k,
+            axis: k,
             centroid_px: (a + b) / 2.0,
             direction: d,
             from_px: a,
@@ -340,6 +322,9 @@ mod tests {
             .position(|p| p.distance(foot) < 1e-6)
             .expect("T found");
         assert_eq!(d.junctions[t], Junction::T);
-        assert_eq!(d.junctions[t].thesis_class(), "T");
+        assert_eq!(
+            d.junctions[t].thesis_class(),
+            crate::drawing::ThesisClass::T
+        );
     }
 }

@@ -6,11 +6,12 @@
 //! exports the sample as glTF (`<scene>.glb`). Later issues extend it (recognize, score).
 
 use crate::cli::view_args::parse_backend;
-use crate::physics::{settle, SettleParams};
-use crate::render::{CornerView, RenderOptions, RenderedView, Renderer};
-use crate::scene::read_scene;
-use crate::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use anyhow::Context;
+use blockworld::camera::CornerView;
+use blockworld::physics::{settle, SettleParams};
+use blockworld::render::{RenderOptions, RenderedView, Renderer};
+use blockworld::scene::read_scene;
+use blockworld::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use std::path::{Path, PathBuf};
 
 /// The demo scene, relative to the working directory (the repository root under `make demo`).
@@ -75,9 +76,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", vision_summary(v, &args.out)?);
     }
     let glb_path = args.out.join(format!("{}.glb", scene.name));
-    let glb = crate::export::scene_to_glb(&scene)
+    let glb = blockworld::export::scene_to_glb(&scene)
         .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
-    crate::io::write_atomic(&glb_path, &glb)
+    blockworld::io::write_atomic(&glb_path, &glb)
         .with_context(|| format!("writing {}", glb_path.display()))?;
     println!(
         "export: {} blocks as glTF 2.0 -> {} ({} bytes)",
@@ -95,7 +96,7 @@ fn vision_summary(v: &RenderedView, out: &Path) -> anyhow::Result<String> {
     let det = detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default())
         .with_context(|| format!("vision on view {name}"))?;
     let path = out.join(format!("vertices_{name}.json"));
-    crate::io::write_atomic(&path, det.drawing.to_json().as_bytes())
+    blockworld::io::write_atomic(&path, det.drawing.to_json().as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
     let m = match_vertices(&det.drawing, &v.lines);
     Ok(format!(

@@ -2,9 +2,9 @@
 //! edge detection (Sobel eq. 2.1 with 3x3 smoothing and a threshold, Ch. II and VI) written as a
 //! binary PNG (0 and 255).
 
-use super::vertices::read_picture;
-use crate::vision::{smooth_3x3, sobel_magnitude, threshold, EdgeOptions, SmoothWindow};
+use crate::cli::files::read_picture;
 use anyhow::Context;
+use blockworld::vision::{smooth_3x3, sobel_magnitude, threshold, EdgeOptions, SmoothWindow};
 use image::{GrayImage, ImageEncoder};
 use std::path::{Path, PathBuf};
 
@@ -60,7 +60,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 image::ExtendedColorType::L16,
             )
             .context("encoding the magnitude PNG")?;
-        crate::io::write_atomic(m, &bytes).with_context(|| format!("writing {}", m.display()))?;
+        blockworld::io::write_atomic(m, &bytes)
+            .with_context(|| format!("writing {}", m.display()))?;
     }
     println!(
         "{}: {count} edge pixels (threshold {}) -> {}",
@@ -91,5 +92,6 @@ fn write_png_gray8(path: &Path, img: &GrayImage) -> anyhow::Result<()> {
             image::ExtendedColorType::L8,
         )
         .context("encoding the edge PNG")?;
-    crate::io::write_atomic(path, &bytes).with_context(|| format!("writing {}", path.display()))
+    blockworld::io::write_atomic(path, &bytes)
+        .with_context(|| format!("writing {}", path.display()))
 }

@@ -1,10 +1,10 @@
 //! `blockworld export SCENE.json -o OUT.glb|OUT.gltf`: the scene as a glTF 2.0 model (thesis
 //! Ch. VI "Display the Final Sample": look at the block sample from any viewpoint).
 
-use crate::export::{scene_to_glb, scene_to_gltf_json};
-use crate::io::write_atomic;
-use crate::scene::read_scene;
 use anyhow::{bail, Context};
+use blockworld::export::{scene_to_glb, scene_to_gltf_json};
+use blockworld::io::write_atomic;
+use blockworld::scene::read_scene;
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld export`.

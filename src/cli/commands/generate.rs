@@ -1,15 +1,15 @@
 //! `blockworld generate --count N --seed S -o DATASET [--family F ...] [--jobs J]
-//! [--shard I/N | --shards N] [view options]` (issue #3 "Generation").
+//! [--shard I/N | --shards N] [view options]` (README "Settling and datasets").
 //!
 //! `--seed` is the dataset seed (shared with the view options, where it seeds sensor noise:
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
 //! `SLURM_ARRAY_TASK_ID` (minus `SLURM_ARRAY_TASK_MIN`) or Kubernetes' `JOB_COMPLETION_INDEX`.
 
 use crate::cli::view_args::ViewArgs;
-use crate::dataset::{generate_dataset, DatasetOptions, Family, GenerateSummary, Shard};
-use crate::physics::SettleParams;
-use crate::render::Renderer;
 use anyhow::{bail, Context};
+use blockworld::dataset::{generate_dataset, DatasetOptions, Family, GenerateSummary, Shard};
+use blockworld::physics::SettleParams;
+use blockworld::render::Renderer;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -71,7 +71,7 @@ pub fn parse_families(names: &[String]) -> anyhow::Result<Vec<Family>> {
 /// Shard from `--shard I/N`, or `--shards N` with the index from the array job's environment.
 fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
     if let Some(s) = &args.shard {
-        return Shard::parse(s).map_err(anyhow::Error::msg);
+        return Ok(Shard::parse(s)?);
     }
     let Some(n) = args.shards else {
         return Ok(Shard::WHOLE);
@@ -103,7 +103,7 @@ fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
     } else {
         bail!("--shards {n} needs SLURM_ARRAY_TASK_ID (Slurm array job) or JOB_COMPLETION_INDEX (Kubernetes Indexed Job); use --shard I/{n} elsewhere");
     };
-    Shard::new(index, n).map_err(anyhow::Error::msg)
+    Ok(Shard::new(index, n)?)
 }
 
 /// The dataset options of a command line.

@@ -1,8 +1,8 @@
 //! `blockworld merge DATASET`: joins `manifest.shard-I-of-N.jsonl` into `manifest.jsonl`,
 //! checking that no shard or scene is missing or doubled and that every file has its hash.
 
-use crate::dataset::merge_shards;
 use anyhow::Context;
+use blockworld::dataset::merge_shards;
 use std::path::PathBuf;
 
 /// Options of `blockworld merge`.

@@ -1,11 +1,11 @@
 //! `blockworld render SCENE.json -o DIR`: the four corner views of a scene and their ground
-//! truth (issue #2), written with [`crate::output::write_rendered_views`].
+//! truth (README "Rendering"), written with [`blockworld::output::write_rendered_views`].
 
 use crate::cli::view_args::ViewArgs;
-use crate::output::write_rendered_views;
-use crate::render::{RenderedView, Renderer};
-use crate::scene::read_scene;
 use anyhow::Context;
+use blockworld::output::write_rendered_views;
+use blockworld::render::{RenderedView, Renderer};
+use blockworld::scene::read_scene;
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld render`.

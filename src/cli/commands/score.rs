@@ -1,9 +1,9 @@
 //! `blockworld score TRUTH.json RECON.json [--json]`: the volume IoU, block matching, layer
-//! count and verdict of a reconstruction against its truth (issue #4).
+//! count and verdict of a reconstruction against its truth (README "Scoring and the accuracy suite").
 
-use crate::scene::{read_reconstruction, read_scene};
-use crate::score::{score_reconstruction, Score, ScoreOptions};
 use anyhow::Context;
+use blockworld::scene::{read_reconstruction, read_scene};
+use blockworld::score::{score_reconstruction, Score, ScoreOptions};
 use std::path::PathBuf;
 
 /// Options of `blockworld score`.

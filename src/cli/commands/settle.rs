@@ -1,8 +1,8 @@
-//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (issue #3 "Settling").
+//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (README "Settling and datasets").
 
-use crate::physics::{settle, SettleParams};
-use crate::scene::{read_scene, write_scene};
 use anyhow::{bail, Context};
+use blockworld::physics::{settle, SettleParams};
+use blockworld::scene::{read_scene, write_scene};
 use std::path::PathBuf;
 
 /// Options of `blockworld settle`.

@@ -6,8 +6,8 @@
 //!
 //! Plain data, no wgpu: the shading rule lives here so tests can compute the expected levels.
 
+use crate::camera::Camera;
 use crate::geom::{DVec2, DVec3};
-use crate::render::Camera;
 use crate::scene::Scene;
 
 /// Most edges a face polygon may have: the shader carries one line per edge in six `vec4`s
@@ -63,12 +63,12 @@ pub struct TooManyEdges {
 }
 
 /// The light vector (direction times diffuse intensity) in world coordinates for `camera`:
-/// [`LIGHT_IN_CAMERA_FRAME`] turned to the camera's azimuth.
+/// [`LIGHT_IN_CAMERA_FRAME`] in the camera's horizontal frame (its right, world up, and the
+/// horizontal direction towards the eye), so every view and elevation sees the same levels.
 pub fn light_in_world(camera: &Camera) -> DVec3 {
-    let az = camera.azimuth_deg.to_radians();
-    // Horizontal unit vector from the scene towards the camera, and the camera's right.
-    let towards = DVec3::new(az.sin(), 0.0, -az.cos());
-    let right = DVec3::new(-az.cos(), 0.0, -az.sin());
+    let [right, _, towards_eye] = camera.axes_in_world();
+    let towards = DVec3::new(towards_eye.x, 0.0, towards_eye.z).normalize_or(DVec3::Z);
+    let right = DVec3::new(right.x, 0.0, right.z).normalize_or(DVec3::X);
     let [x, y, z] = LIGHT_IN_CAMERA_FRAME;
     right * x + DVec3::Y * y + towards * z
 }
@@ -90,7 +90,7 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 36);
     for (index, block) in scene.blocks.iter().enumerate() {
         let world = block.world_vertices();
-        for (f, face) in block.block_type.faces.iter().enumerate() {
+        for (f, face) in block.block_type.faces().iter().enumerate() {
             if face.len() > MAX_FACE_EDGES {
                 return Err(TooManyEdges {
                     block: index,
@@ -131,16 +131,6 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
     }
 }
 
-/// Whether a face with outward `normal` through `point_mm` turns towards the camera.
-fn faces_camera(normal: DVec3, point_mm: DVec3, camera: &Camera) -> bool {
-    let towards = if camera.is_orthographic() {
-        camera.towards_eye()
-    } else {
-        camera.eye() - point_mm
-    };
-    normal.dot(towards) > 0.0
-}
-
 /// Scale of a silhouette edge's line `(a, b, c)`: the shader reads `a^2 + b^2 = 4` as the
 /// silhouette flag (`shaders/scene.wgsl`, `is_seam`).
 const SILHOUETTE_LINE_SCALE: f64 = 2.0;
@@ -156,7 +146,7 @@ fn seam_scales(
     world: &[DVec3],
     camera: &Camera,
 ) -> [f64; MAX_FACE_EDGES] {
-    let faces = block.block_type.faces;
+    let faces = block.block_type.faces();
     let face = faces[f];
     let mut scales = [1.0; MAX_FACE_EDGES];
     for k in 0..face.len().min(MAX_FACE_EDGES) {
@@ -164,11 +154,7 @@ fn seam_scales(
         let neighbour =
             (0..faces.len()).find(|&g| g != f && faces[g].contains(&a) && faces[g].contains(&b));
         let silhouette = neighbour.is_none_or(|g| {
-            !faces_camera(
-                block.world_face_normal(g),
-                world[faces[g][0] as usize],
-                camera,
-            )
+            !camera.faces_eye(block.world_face_normal(g), world[faces[g][0] as usize])
         });
         if silhouette {
             scales[k] = SILHOUETTE_LINE_SCALE;
@@ -241,7 +227,7 @@ pub fn edge_lines_px(corners: &[DVec3], camera: &Camera) -> [[f32; 3]; MAX_FACE_
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::camera::{CameraOptions, CornerView};
     use crate::scene::Block;
 
     fn cube() -> Scene {

@@ -4,10 +4,11 @@
 //! Figure 5.1).
 
 use super::classify::{join_pieces, reclassify, Piece};
-use super::geometry::{Projector, SceneGeometry};
+use super::geometry::SceneGeometry;
 use super::TruthTolerances;
+use crate::camera::Projector;
 use crate::drawing::{EdgeRef, LineDrawing};
-use crate::geom::DVec2;
+use crate::geom::{DVec2, UnionFind};
 
 /// Two coincident pieces whose depths differ by more than this many seam tolerances are an
 /// occlusion (the nearer is drawn), otherwise a contact (the score and height decide).
@@ -208,14 +209,7 @@ fn wins(geo: &SceneGeometry, a: &Seg, b: &Seg, u: f64, tol: &TruthTolerances) ->
 /// points (cluster means, in order of first appearance) and each segment's two point indices.
 fn merge_ends(segs: &[Seg], snap_px: f64) -> (Vec<DVec2>, Vec<[usize; 2]>) {
     let ends: Vec<DVec2> = segs.iter().flat_map(|s| s.p).collect();
-    let mut parent: Vec<usize> = (0..ends.len()).collect();
-    fn find(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(ends.len());
     let mut order: Vec<usize> = (0..ends.len()).collect();
     order.sort_by(|&a, &b| ends[a].x.total_cmp(&ends[b].x));
     for (k, &i) in order.iter().enumerate() {
@@ -224,8 +218,7 @@ fn merge_ends(segs: &[Seg], snap_px: f64) -> (Vec<DVec2>, Vec<[usize; 2]>) {
                 break;
             }
             if ends[i].distance(ends[j]) <= snap_px {
-                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
-                parent[ri.max(rj)] = ri.min(rj);
+                sets.union(i, j);
             }
         }
     }
@@ -233,7 +226,7 @@ fn merge_ends(segs: &[Seg], snap_px: f64) -> (Vec<DVec2>, Vec<[usize; 2]>) {
     let mut sums: Vec<(DVec2, f64)> = Vec::new();
     let mut point_of_end = vec![0; ends.len()];
     for (i, end) in ends.iter().enumerate() {
-        let r = find(&mut parent, i);
+        let r = sets.find(i);
         if index_of_root[r] == usize::MAX {
             index_of_root[r] = sums.len();
             sums.push((DVec2::ZERO, 0.0));

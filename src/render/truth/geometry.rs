@@ -2,108 +2,9 @@
 //! 3D segments with their picture segments, and the projection both ways (Chapter II,
 //! eqs. 2.2-2.8, in the camera's matrices).
 
-use crate::geom::{DMat4, DVec2, DVec3, DVec4};
-use crate::render::Camera;
+use crate::camera::{Camera, Projector};
+use crate::geom::{bounds2, bounds3, DVec2, DVec3};
 use crate::scene::{BlockType, Scene};
-
-/// World to picture and back for one camera.
-pub(super) struct Projector {
-    clip_from_world: DMat4,
-    world_from_clip: DMat4,
-    view_from_world: DMat4,
-    size_px: DVec2,
-    orthographic: bool,
-    eye: DVec3,
-    towards_eye: DVec3,
-    right: DVec3,
-}
-
-impl Projector {
-    fn new(camera: &Camera) -> Projector {
-        let clip_from_world = camera.clip_from_world();
-        let view_from_world = camera.view_matrix();
-        let towards_eye = camera.towards_eye();
-        Projector {
-            clip_from_world,
-            world_from_clip: clip_from_world.inverse(),
-            view_from_world,
-            size_px: DVec2::new(camera.size_px[0] as f64, camera.size_px[1] as f64),
-            orthographic: camera.is_orthographic(),
-            eye: camera.eye(),
-            towards_eye,
-            right: DVec3::Y.cross(towards_eye).normalize_or(DVec3::X),
-        }
-    }
-
-    /// Homogeneous clip coordinates of a world point.
-    fn clip(&self, p: DVec3) -> DVec4 {
-        self.clip_from_world * p.extend(1.0)
-    }
-
-    /// Picture px of a world point and its clip w (1 for orthographic cameras).
-    pub fn picture_and_w(&self, p: DVec3) -> (DVec2, f64) {
-        let c = self.clip(p);
-        let ndc = DVec2::new(c.x / c.w, c.y / c.w);
-        ((ndc + DVec2::ONE) * 0.5 * self.size_px, c.w)
-    }
-
-    /// Picture px of a world point.
-    pub fn picture(&self, p: DVec3) -> DVec2 {
-        self.picture_and_w(p).0
-    }
-
-    /// Depth along the optical axis in mm.
-    pub fn depth_mm(&self, p: DVec3) -> f64 {
-        -(self.view_from_world * p.extend(1.0)).z
-    }
-
-    /// The ray through picture point `q`: origin and unit direction away from the eye.
-    pub fn ray(&self, q: DVec2) -> (DVec3, DVec3) {
-        let ndc = q / self.size_px * 2.0 - DVec2::ONE;
-        let unproject = |z: f64| {
-            let p = self.world_from_clip * DVec4::new(ndc.x, ndc.y, z, 1.0);
-            p.truncate() / p.w
-        };
-        let (a, b) = (unproject(0.0), unproject(1.0));
-        (a, (b - a).normalize())
-    }
-
-    /// Picture px per world mm at `p` (across the view).
-    pub fn px_per_mm(&self, p: DVec3) -> f64 {
-        self.picture(p + self.right).distance(self.picture(p))
-    }
-
-    /// Whether a face with outward normal `n` through `p` faces the eye (cosine above 1e-9).
-    fn faces_eye(&self, n: DVec3, p: DVec3) -> bool {
-        let to_eye = if self.orthographic {
-            self.towards_eye
-        } else {
-            (self.eye - p).normalize()
-        };
-        n.dot(to_eye) > 1e-9
-    }
-
-    /// The 3D edge parameter `t` of the point at picture parameter `s` along the projected
-    /// segment whose ends have clip w `wa`, `wb` (perspective division is not linear).
-    pub fn t_from_s(s: f64, wa: f64, wb: f64) -> f64 {
-        let den = (1.0 - s) * wb + s * wa;
-        if den.abs() < 1e-300 {
-            s
-        } else {
-            s * wa / den
-        }
-    }
-
-    /// Inverse of [`Projector::t_from_s`].
-    pub fn s_from_t(t: f64, wa: f64, wb: f64) -> f64 {
-        let den = wa + t * (wb - wa);
-        if den.abs() < 1e-300 {
-            t
-        } else {
-            t * wb / den
-        }
-    }
-}
 
 /// One block face: plane, picture polygon (counter-clockwise), facing.
 pub(super) struct Face {
@@ -222,10 +123,10 @@ impl SceneGeometry {
             let bt = block.block_type;
             let verts = block.world_vertices();
             let first_face = faces.len();
-            for (fi, face) in bt.faces.iter().enumerate() {
+            for (fi, face) in bt.faces().iter().enumerate() {
                 let normal = block.world_face_normal(fi);
                 let p0 = verts[face[0] as usize];
-                let front = proj.faces_eye(normal, p0);
+                let front = camera.faces_eye(normal, p0);
                 let mut poly: Vec<DVec2> = if front {
                     face.iter()
                         .map(|&v| proj.picture(verts[v as usize]))
@@ -236,7 +137,7 @@ impl SceneGeometry {
                 if signed_area(&poly) < 0.0 {
                     poly.reverse();
                 }
-                let (lo, hi) = bounds2(&poly);
+                let (lo, hi) = poly_bounds(&poly);
                 faces.push(Face {
                     block: bi,
                     normal,
@@ -271,10 +172,7 @@ impl SceneGeometry {
                     wb,
                 });
             }
-            let (lo, hi) = verts.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-            );
+            let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();
             blocks.push(BlockGeometry {
                 lo,
                 hi,
@@ -328,9 +226,7 @@ fn signed_area(poly: &[DVec2]) -> f64 {
         / 2.0
 }
 
-fn bounds2(poly: &[DVec2]) -> (DVec2, DVec2) {
-    poly.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
+fn poly_bounds(poly: &[DVec2]) -> (DVec2, DVec2) {
+    bounds2(poly.iter().copied())
+        .unwrap_or((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)))
 }

@@ -1,5 +1,5 @@
 //! The exact visible line drawing of a scene in a camera, by hidden-line removal on the block
-//! polyhedra (not from pixels): the ground truth `lines_<view>.json` of issue #2, in the
+//! polyhedra (not from pixels): the ground truth `lines_<view>.json` of README "Rendering", in the
 //! vocabulary of Chapter IV (lines, junctions, six-bit codes) and Kanade's labels (Chapter II).
 //!
 //! ## Algorithm
@@ -28,7 +28,7 @@
 //!    interior (the T junctions); codes and junctions come from [`LineDrawing::finalize`].
 //!
 //! ## Contact policy
-//! Settled poses are not flush (`shared/notes/ground-truth.md`). Faces parallel within
+//! Settled poses are not flush (README "The exact line drawing"). Faces parallel within
 //! [`TruthTolerances::parallel_deg`] and within [`TruthTolerances::seam_mm`] of each other
 //! count as one surface, and a face hides nothing closer than [`TruthTolerances::contact_mm`]
 //! ([`crate::geom::CONTACT_TOL_MM`]). `seam_mm` is twice the contact tolerance because two
@@ -41,12 +41,12 @@ mod classify;
 mod geometry;
 mod visibility;
 
-use super::Camera;
+use crate::camera::Camera;
 use crate::drawing::LineDrawing;
 use crate::geom::CONTACT_TOL_MM;
 use crate::scene::Scene;
 
-/// The tolerances of the hidden-line removal, all named (style.md habit 4).
+/// The tolerances of the hidden-line removal, all named.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TruthTolerances {
     /// A face hides an edge point only if the point lies more than this behind the face's plane,
@@ -58,7 +58,7 @@ pub struct TruthTolerances {
     /// Faces whose normals differ by less than this are parallel, in degrees; default 0.5.
     pub parallel_deg: f64,
     /// Line ends closer than this in the picture are always one point, in px; default 0.01
-    /// (`shared/notes/ground-truth.md`).
+    /// (README "The exact line drawing").
     pub merge_px: f64,
     /// How far beside a line the classifying rays look, in mm; default 0.3 (larger than any
     /// seam gap, far smaller than a block).
@@ -99,7 +99,7 @@ pub fn visible_line_drawing_with_tolerances(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::{CameraOptions, CornerView};
+    use crate::camera::{CameraOptions, CornerView};
     use crate::scene::Block;
     use glam::DVec3;
 

@@ -3,8 +3,9 @@
 //! face's plane by more than the contact tolerance (Chapter II's viewing model; Kanade's
 //! occlusion). A face whose plane contains the edge never hides it.
 
-use super::geometry::{Edge, Face, Projector, SceneGeometry};
+use super::geometry::{Edge, Face, SceneGeometry};
 use super::TruthTolerances;
+use crate::camera::Projector;
 use crate::geom::DVec2;
 
 /// Picture tolerance of the closed-polygon overlap test: an edge lying exactly on a face's

@@ -1,4 +1,4 @@
-//! Fuzz target for the vision front end (issue #5): arbitrary bytes are decoded as an image
+//! Fuzz target for the vision front end: arbitrary bytes are decoded as an image
 //! (PNG and the other formats the `image` crate guesses) and, when they decode, run through
 //! Sobel + smoothing + threshold, lines and vertices. Nothing may panic. The same entry point
 //! runs on a few hundred seeded random pictures in `tests/vision.rs`
@@ -9,8 +9,7 @@
 //! 2 cores). Seeded with a fixture PNG, 122,457 runs in 151 s found no crash.
 #![no_main]
 
-use blockworld::geom::DVec2;
-use blockworld::vision::{decode_gray, detect_with_directions, EdgeDirection, VisionOptions};
+use blockworld::vision::{decode_gray, detect_with_directions, isometric_edge_directions, VisionOptions};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -20,7 +19,7 @@ fuzz_target!(|data: &[u8]| {
     if pic.gray.width() > 1024 || pic.gray.height() > 1024 {
         return;
     }
-    let dirs = [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)].map(EdgeDirection::Parallel);
+    let dirs = isometric_edge_directions();
     let det = detect_with_directions(&pic.gray, &dirs, &VisionOptions::default());
     assert_eq!(det.drawing.codes.len(), det.drawing.points.len());
 });

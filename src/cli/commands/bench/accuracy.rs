@@ -1,16 +1,16 @@
 //! `blockworld bench accuracy`: scores reconstructions of the accuracy suite (`scenes/bench/`)
-//! and prints a per-family table (issue #4). Until a recognizer exists, `--recognizer DIR`
+//! and prints a per-family table (README "Scoring and the accuracy suite"). Until a recognizer exists, `--recognizer DIR`
 //! names a directory of reconstruction files `<scene-id>.json`; a missing file counts as
 //! `failed`. `--make-reference DIR` writes the constructed reference set
 //! (`score::make_reference_reconstructions`) that `tests/accuracy_gate.rs` scores.
 
 use crate::cli::view_args::ViewArgs;
-use crate::scene::{read_reconstruction, read_scene, scene_to_json, Scene};
-use crate::score::{
-    check_gate, make_reference_reconstructions, score_suite_scene, summarize_by_family,
-    FamilySummary, Golden, SceneResult, ScoreOptions, BLESS_COMMAND,
-};
 use anyhow::{bail, Context};
+use blockworld::scene::{read_reconstruction, read_scene, reconstruction_to_json, Scene};
+use blockworld::score::{
+    check_gate, make_reference_reconstructions, score_suite_scene, summarize_by_family,
+    FamilySummary, Golden, NoReconstruction, SceneResult, ScoreOptions, BLESS_COMMAND,
+};
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld bench accuracy`.
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("creating {}", parent.display()))?;
     }
-    crate::io::write_atomic(
+    blockworld::io::write_atomic(
         &args.json_out,
         format!("{}\n", serde_json::to_string_pretty(&report)?).as_bytes(),
     )
@@ -129,9 +129,12 @@ fn score_suite(
         .map(|(id, truth)| {
             let path = recon_dir.join(format!("{id}.json"));
             let recon = if path.exists() {
-                read_reconstruction(&path).map_err(|e| e.to_string())
+                read_reconstruction(&path).map_err(|e| NoReconstruction(e.to_string()))
             } else {
-                Err(format!("no reconstruction file {}", path.display()))
+                Err(NoReconstruction(format!(
+                    "no reconstruction file {}",
+                    path.display()
+                )))
             };
             score_suite_scene(id, truth, recon.as_ref().map_err(Clone::clone), opts)
         })
@@ -142,7 +145,7 @@ fn write_reference(dir: &Path, suite: &[(String, Scene)]) -> anyhow::Result<()> 
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     for (id, recon) in make_reference_reconstructions(suite) {
         let path = dir.join(format!("{id}.json"));
-        crate::io::write_atomic(&path, scene_to_json(&recon).as_bytes())
+        blockworld::io::write_atomic(&path, reconstruction_to_json(&recon).as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
     println!(

@@ -1,11 +1,11 @@
 //! `blockworld bench generate`: scenes/s of dataset generation (settle, render four views,
-//! write) and the time split between the stages (issue #3 "Benchmark"; target >= 40 scenes/s
+//! write) and the time split between the stages (README "Settling and datasets"; target >= 40 scenes/s
 //! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores).
 
 use crate::cli::commands::generate::{checked_options, renderer_for, with_progress};
 use crate::cli::view_args::ViewArgs;
-use crate::dataset::{generate_dataset, Shard};
 use anyhow::Context;
+use blockworld::dataset::{generate_dataset, Shard};
 use std::time::Instant;
 
 /// Options of `blockworld bench generate`.

@@ -1,13 +1,14 @@
 //! `blockworld bench render`: ms per view for scenes of 1, 10 and 50 blocks at 512 x 480
-//! (issue #2 target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
+//! (README "Rendering" target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
 //! Columns: render + readback (pixels only), the same plus the exact line drawing
 //! (`Renderer::render`), and render + readback + PNG encoding of the three images.
 
-use crate::geom::DVec3;
-use crate::output::{encode_png_gray16, encode_png_gray8};
-use crate::render::{Backend, CornerView, RenderOptions, Renderer};
-use crate::scene::{Block, Scene};
 use anyhow::Context;
+use blockworld::camera::CornerView;
+use blockworld::geom::DVec3;
+use blockworld::output::{encode_png_gray16, encode_png_gray8};
+use blockworld::render::{Backend, RenderOptions, Renderer};
+use blockworld::scene::{Block, Scene};
 use std::time::{Duration, Instant};
 
 /// Options of `blockworld bench render`.
@@ -144,7 +145,7 @@ fn process_cpu_time() -> Option<Duration> {
 
 fn time_views(
     iterations: usize,
-    mut f: impl FnMut(CornerView) -> Result<(), crate::render::RenderError>,
+    mut f: impl FnMut(CornerView) -> Result<(), blockworld::render::RenderError>,
 ) -> anyhow::Result<Timing> {
     let mut times = Vec::with_capacity(iterations);
     let cpu_start = process_cpu_time();

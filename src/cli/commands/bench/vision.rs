@@ -1,19 +1,20 @@
-//! `blockworld bench vision`: the vision front end (issue #5) measured against exact ground
+//! `blockworld bench vision`: the vision front end (README "Vision front end") measured against exact ground
 //! truth. Renders the accuracy-suite scenes (`scenes/bench/*.json`, else `scenes/*.json`) in the
 //! four corner views with the real renderer (or reads already rendered views with `--from`),
 //! runs Sobel + smoothing + threshold, lines and vertices on one core, matches the vertices to
 //! the `lines` points within 2 px, and prints per family and overall: vertex precision and
 //! recall, six-bit code accuracy of matched vertices, line angle error, and ms per view per step.
 
-use crate::cli::commands::vertices::{read_camera, read_picture};
-use crate::drawing::LineDrawing;
-use crate::render::{Backend, Camera, CornerView, RenderOptions, Renderer};
-use crate::vision::{
+use crate::cli::files::{read_camera, read_drawing, read_picture};
+use anyhow::{bail, Context};
+use blockworld::camera::{Camera, CornerView};
+use blockworld::drawing::LineDrawing;
+use blockworld::render::{Backend, RenderOptions, Renderer};
+use blockworld::vision::{
     edge_directions, find_vertices, fit_lines, line_angle_errors_deg,
     match_vertices_with_tolerances, refine_lines_on_seams, smooth_3x3, sobel_magnitude, threshold,
     MatchTolerances, VisionOptions,
 };
-use anyhow::{bail, Context};
 use image::GrayImage;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -36,7 +37,7 @@ pub struct Args {
     #[arg(long, conflicts_with = "suite")]
     pub from: Option<PathBuf>,
     /// Render with a perspective camera of this vertical field of view, degrees (default:
-    /// orthographic, the issue's target setting).
+    /// orthographic, the target setting of README "Vision front end").
     #[arg(long)]
     pub perspective: Option<f64>,
     /// Matching distance, px.
@@ -168,10 +169,10 @@ fn timed_steps(
     s: &Sample,
     opts: &VisionOptions,
     repeat: u32,
-) -> (LineDrawing, Vec<crate::vision::FittedLine>, [f64; 5]) {
+) -> (LineDrawing, Vec<blockworld::vision::FittedLine>, [f64; 5]) {
     let mut best = [f64::INFINITY; 5];
     let mut out = None;
-    let dirs = edge_directions(&s.camera);
+    let dirs = edge_directions(&s.camera, &blockworld::drawing::EdgeAxis::BLOCK_AXES);
     for _ in 0..repeat {
         let mut ms = [0.0; 5];
         let mut clock = Instant::now();
@@ -228,11 +229,11 @@ fn render_suite(args: &Args) -> anyhow::Result<Vec<Sample>> {
         if !(1.0..=170.0).contains(&fov_y_deg) {
             bail!("--perspective: {fov_y_deg} is out of range; use 1..=170 degrees");
         }
-        opts.camera.projection = crate::render::Projection::Perspective { fov_y_deg };
+        opts.camera.projection = blockworld::camera::Projection::Perspective { fov_y_deg };
     }
     let mut out = Vec::new();
     for f in files {
-        let scene = crate::scene::read_scene(&f)?;
+        let scene = blockworld::scene::read_scene(&f)?;
         let family = scene
             .meta
             .as_ref()
@@ -283,15 +284,7 @@ fn read_views(dir: &Path) -> anyhow::Result<Vec<Sample>> {
             };
             let camera = read_camera(&d.join(format!("camera_{view}.json")))?;
             let lines_path = d.join(format!("lines_{view}.json"));
-            let text = std::fs::read_to_string(&lines_path)
-                .with_context(|| format!("reading {}", lines_path.display()))?;
-            let mut truth: LineDrawing = serde_json::from_str(&text)
-                .with_context(|| format!("{}: not a line drawing", lines_path.display()))?;
-            if truth.codes.len() != truth.points.len()
-                || truth.junctions.len() != truth.points.len()
-            {
-                truth.finalize();
-            }
+            let truth = read_drawing(&lines_path)?;
             let family = d
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())

@@ -1,6 +1,9 @@
-//! Cameras for the four 45-degree corner views of Chapter VI (North-East, South-East,
-//! South-West, North-West), framed automatically on a scene. Pure math, no wgpu: ground truth
-//! and the vision stage use the same [`Camera`] to map world points to picture pixels.
+//! The one camera every stage shares: the four 45-degree corner views of Chapter VI
+//! (North-East, South-East, South-West, North-West) framed automatically on a scene, the
+//! From/At/Up construction of Chapter II (eq. 2.5), orthographic and perspective projection,
+//! picture-from-world, ray-from-picture, the front-facing test, and the reading and writing of
+//! `camera_<view>.json`. Pure math, no wgpu: the renderer, its ground truth, the vision stage,
+//! the recognizer and the viewer all map world points to picture pixels through this module.
 //!
 //! Conventions (README "Cameras"): azimuth is the compass bearing of the camera seen from the
 //! scene, clockwise from north (-z) towards east (+x): NE 45, SE 135, SW 225, NW 315 degrees.
@@ -8,8 +11,18 @@
 //! Pixel aspect is the thesis's "vertical to horizontal pixel size ratio" (1.173913 for its
 //! COHU CCD): a pixel covers `pixel_aspect` times more world height than width.
 
-use crate::geom::{DMat4, DVec2, DVec3, DVec4, ISOMETRIC_ELEVATION_DEG};
+use crate::geom::{bounds3, DMat4, DVec2, DVec3, ISOMETRIC_ELEVATION_DEG};
 use serde::{Deserialize, Serialize};
+
+mod file;
+mod projector;
+
+pub use file::{camera_json, parse_camera_json, CameraError, PICTURE_CONVENTION};
+pub use projector::Projector;
+
+/// Depth PNG scale written into every `camera_<view>.json`: steps per millimetre (1/16 mm
+/// resolution, up to 4095.9 mm).
+pub const DEPTH_UNITS_PER_MM: f64 = 16.0;
 
 /// One of the four corner views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -76,7 +89,7 @@ pub enum Projection {
 }
 
 /// How to take a view: picture size, camera angles, projection, framing.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CameraOptions {
     /// Picture width and height in pixels; default 512 x 480, the thesis's digitizer (Ch. VI).
     pub size_px: [u32; 2],
@@ -134,14 +147,9 @@ impl Camera {
     /// Frames `points_mm` (usually all block vertices) in `view`: the picture is filled with a
     /// margin of `opts.margin` on the tighter axis, centred.
     pub fn frame(points_mm: &[DVec3], view: CornerView, opts: &CameraOptions) -> Camera {
-        let (lo, hi) = points_mm.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (lo, hi) = if lo.is_finite() {
-            (lo, hi)
-        } else {
-            (DVec3::splat(-10.0), DVec3::splat(10.0))
+        let (lo, hi) = match bounds3(points_mm.iter().copied()) {
+            Some((lo, hi)) if lo.is_finite() => (lo, hi),
+            _ => (DVec3::splat(-10.0), DVec3::splat(10.0)),
         };
         let target = (lo + hi) / 2.0;
         let radius = ((hi - lo).length() / 2.0).max(1.0);
@@ -252,15 +260,27 @@ impl Camera {
     /// The world ray through picture point `(x_px, y_px)`: origin (on the near plane for
     /// orthographic views, the eye for perspective) and unit direction.
     pub fn ray_through_picture(&self, x_px: f64, y_px: f64) -> (DVec3, DVec3) {
-        let ndc_x = x_px / self.size_px[0] as f64 * 2.0 - 1.0;
-        let ndc_y = y_px / self.size_px[1] as f64 * 2.0 - 1.0;
-        let inv = self.clip_from_world().inverse();
-        let unproject = |z: f64| {
-            let p: DVec4 = inv * DVec4::new(ndc_x, ndc_y, z, 1.0);
-            p.truncate() / p.w
+        Projector::new(self).ray(DVec2::new(x_px, y_px))
+    }
+
+    /// Whether a face with outward unit normal `normal` through `point_mm` turns towards the
+    /// eye: the one front-facing test of the renderer and its ground truth (a face seen exactly
+    /// edge-on, within [`FRONT_FACING_COS`], is neither front nor back).
+    pub fn faces_eye(&self, normal: DVec3, point_mm: DVec3) -> bool {
+        let to_eye = if self.is_orthographic() {
+            self.towards_eye()
+        } else {
+            (self.eye() - point_mm).normalize()
         };
-        let (a, b) = (unproject(0.0), unproject(1.0));
-        (a, (b - a).normalize())
+        normal.dot(to_eye) > FRONT_FACING_COS
+    }
+
+    /// The camera's right, up and towards-eye axes in world coordinates (the rows of the
+    /// rotation in `view_from_world`; eq. 2.4's A1, A2 and -A3).
+    pub fn axes_in_world(&self) -> [DVec3; 3] {
+        let v = self.view_matrix();
+        let row = |i: usize| DVec3::new(v.col(0)[i], v.col(1)[i], v.col(2)[i]);
+        [row(0), row(1), row(2)]
     }
 
     /// Unit vector from the scene towards the eye (for orthographic views, the reverse of the
@@ -275,10 +295,21 @@ impl Camera {
     }
 }
 
-/// A right-handed look-at matrix with +y up (the thesis's eq. 2.5 from/at/up construction, with
-/// the up sign chosen so that picture up is world up; see README "Thesis readings").
+/// Cosine below which a face counts as seen edge-on, not front-facing: far below any real
+/// face's tilt (a face turned by 1e-7 degrees), far above rounding noise.
+pub const FRONT_FACING_COS: f64 = 1e-9;
+
+/// The view matrix of Chapter II's From/At/Up construction (eq. 2.5a-c): world to camera,
+/// right-handed, the camera looking down its -z, picture up along the projection of `up_dir`.
+/// The thesis writes `U' = A - U` and a left-handed viewing system, which turns the picture
+/// upside down on a y-up picture; this follows the geometry instead (README "Thesis readings").
+pub fn look_at(from_mm: DVec3, at_mm: DVec3, up_dir: DVec3) -> DMat4 {
+    glam::dcamera::rh::view::look_at_mat4(from_mm, at_mm, up_dir)
+}
+
+/// The corner views' look-at: world +y is picture up.
 fn view_matrix(eye: DVec3, target: DVec3) -> DMat4 {
-    glam::dcamera::rh::view::look_at_mat4(eye, target, DVec3::Y)
+    look_at(eye, target, DVec3::Y)
 }
 
 /// wgpu's clip space: depth 0 at near, 1 at far, y up.
@@ -291,13 +322,8 @@ fn perspective(half_fov_y: f64, aspect: f64, near: f64, far: f64) -> DMat4 {
 }
 
 fn bounds_in(v: &DMat4, points: &[DVec3]) -> (DVec3, DVec3) {
-    points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| {
-            let c = v.transform_point3(*p);
-            (lo.min(c), hi.max(c))
-        },
-    )
+    bounds3(points.iter().map(|p| v.transform_point3(*p)))
+        .unwrap_or((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)))
 }
 
 #[cfg(test)]

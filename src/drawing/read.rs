@@ -1,0 +1,210 @@
+//! Reading a line drawing from JSON, checked: a drawing that names a missing point, holds a
+//! coordinate that is not finite, a six-bit code outside 0..=63 (Chapter IV has six bits), or
+//! parallel arrays of unequal length is refused with the reason, never half-read. `codes` and
+//! `junctions` may be left out (a hand-made `{"points", "lines"}` drawing); they are then
+//! computed from the geometry. Fields this crate does not know are ignored, so drawings from
+//! other tools read too.
+
+use super::{EdgeRef, Junction, LineDrawing, LineKind, SixBitCode};
+use crate::geom::DVec2;
+use serde::Deserialize;
+
+/// Why a drawing was refused.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DrawingError {
+    /// Not JSON, or JSON without the drawing's fields.
+    #[error("not a line drawing: {0} (expected {{\"points\": [[x, y], ...], \"lines\": [[i, j], ...]}}, README \"The exact line drawing\")")]
+    Format(String),
+    /// A point with a NaN or infinite coordinate.
+    #[error("point {index} has a coordinate that is not finite")]
+    NotFinite {
+        /// The point's index.
+        index: usize,
+    },
+    /// A line naming a point that does not exist, or a line from a point to itself.
+    #[error("line {index} joins points {a} and {b}, but the drawing has {points} points (indices 0..{points}, two different ones)")]
+    BadLine {
+        /// The line's index.
+        index: usize,
+        /// Its first point.
+        a: usize,
+        /// Its second point.
+        b: usize,
+        /// Number of points.
+        points: usize,
+    },
+    /// A six-bit code with bits above bit 5.
+    #[error("point {index} has six-bit code {code}, outside 0..=63 (Chapter IV: six bits)")]
+    BadCode {
+        /// The point's index.
+        index: usize,
+        /// The code as written.
+        code: u8,
+    },
+    /// Arrays that must be parallel have different lengths.
+    #[error("`{field}` has {got} entries but must have {want} (one per {per})")]
+    Length {
+        /// The field.
+        field: &'static str,
+        /// Its length.
+        got: usize,
+        /// The length it must have.
+        want: usize,
+        /// What it is parallel to: `point` or `line`.
+        per: &'static str,
+    },
+    /// `unclassified_lines` names a line that does not exist.
+    #[error("unclassified_lines names line {line}, but the drawing has {lines} lines")]
+    BadUnclassified {
+        /// The line index as written.
+        line: usize,
+        /// Number of lines.
+        lines: usize,
+    },
+}
+
+#[derive(Deserialize)]
+struct DrawingFile {
+    points: Vec<[f64; 2]>,
+    lines: Vec<[usize; 2]>,
+    #[serde(default)]
+    codes: Option<Vec<SixBitCode>>,
+    #[serde(default)]
+    junctions: Option<Vec<Junction>>,
+    #[serde(default)]
+    kinds: Vec<LineKind>,
+    #[serde(default)]
+    edges: Vec<EdgeRef>,
+    #[serde(default)]
+    unclassified_lines: Option<Vec<usize>>,
+}
+
+impl LineDrawing {
+    /// Parses and checks a drawing's JSON text (see the module doc); `codes`, `junctions` and
+    /// `unclassified_lines`, when absent, are computed with [`LineDrawing::finalize`].
+    pub fn from_json(text: &str) -> Result<LineDrawing, DrawingError> {
+        let f: DrawingFile =
+            serde_json::from_str(text).map_err(|e| DrawingError::Format(e.to_string()))?;
+        let computed = f.codes.is_none() || f.junctions.is_none();
+        let mut d = LineDrawing {
+            points: f.points.iter().map(|p| DVec2::from_array(*p)).collect(),
+            lines: f.lines,
+            codes: f.codes.unwrap_or_default(),
+            junctions: f.junctions.unwrap_or_default(),
+            kinds: f.kinds,
+            edges: f.edges,
+            unclassified_lines: f.unclassified_lines.clone().unwrap_or_default(),
+        };
+        d.check_indices()?;
+        let nl = d.lines.len();
+        if let Some(&line) = d.unclassified_lines.iter().find(|&&l| l >= nl) {
+            return Err(DrawingError::BadUnclassified { line, lines: nl });
+        }
+        if computed || f.unclassified_lines.is_none() {
+            let (codes, junctions) = (d.codes.clone(), d.junctions.clone());
+            d.finalize();
+            if !computed {
+                (d.codes, d.junctions) = (codes, junctions);
+            }
+        }
+        d.check()?;
+        Ok(d)
+    }
+
+    fn check_indices(&self) -> Result<(), DrawingError> {
+        if let Some(index) = self.points.iter().position(|p| !p.is_finite()) {
+            return Err(DrawingError::NotFinite { index });
+        }
+        let n = self.points.len();
+        for (index, &[a, b]) in self.lines.iter().enumerate() {
+            if a >= n || b >= n || a == b {
+                return Err(DrawingError::BadLine {
+                    index,
+                    a,
+                    b,
+                    points: n,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the invariants every stage relies on (see [`DrawingError`]).
+    pub fn check(&self) -> Result<(), DrawingError> {
+        self.check_indices()?;
+        let (np, nl) = (self.points.len(), self.lines.len());
+        let parallel = [
+            ("codes", self.codes.len(), np, "point", false),
+            ("junctions", self.junctions.len(), np, "point", false),
+            ("kinds", self.kinds.len(), nl, "line", true),
+            ("edges", self.edges.len(), nl, "line", true),
+        ];
+        for (field, got, want, per, may_be_empty) in parallel {
+            if got != want && !(may_be_empty && got == 0) {
+                return Err(DrawingError::Length {
+                    field,
+                    got,
+                    want,
+                    per,
+                });
+            }
+        }
+        if let Some((index, c)) = self.codes.iter().enumerate().find(|(_, c)| c.0 > 63) {
+            return Err(DrawingError::BadCode { index, code: c.0 });
+        }
+        if let Some(&line) = self.unclassified_lines.iter().find(|&&l| l >= nl) {
+            return Err(DrawingError::BadUnclassified { line, lines: nl });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SQUARE: &str = r#"{"points": [[0, 0], [10, 10], [0, 20]], "lines": [[0, 1], [1, 2]]}"#;
+
+    #[test]
+    fn a_bare_drawing_reads_and_gets_its_codes() {
+        let d = LineDrawing::from_json(SQUARE).unwrap();
+        assert_eq!(d.codes.len(), 3);
+        // Point 1 has a left-down and a left-up line.
+        assert_eq!(d.codes[1].0, (1 << 3) | (1 << 2));
+        assert_eq!(LineDrawing::from_json(&d.to_json()).unwrap(), d);
+    }
+
+    #[test]
+    fn broken_drawings_are_refused_with_the_reason() {
+        let bad = |t: &str| LineDrawing::from_json(t).unwrap_err();
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0]], "lines": [[0, 3]]}"#),
+            DrawingError::BadLine { index: 0, b: 3, .. }
+        ));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0], [1, 1]], "lines": [[1, 1]]}"#),
+            DrawingError::BadLine { .. }
+        ));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 1e999]], "lines": []}"#),
+            DrawingError::NotFinite { .. } | DrawingError::Format(_)
+        ));
+        assert!(matches!(
+            bad(
+                r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 1]], "codes": [64, 1], "junctions": ["end", "end"]}"#
+            ),
+            DrawingError::BadCode { index: 0, code: 64 }
+        ));
+        assert!(matches!(
+            bad(
+                r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 1]], "codes": [1], "junctions": ["end", "end"]}"#
+            ),
+            DrawingError::Length { field: "codes", .. }
+        ));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 1]], "unclassified_lines": [4]}"#),
+            DrawingError::BadUnclassified { line: 4, .. }
+        ));
+        assert!(matches!(bad("[1, 2]"), DrawingError::Format(_)));
+    }
+}
