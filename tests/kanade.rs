@@ -2,6 +2,7 @@
 //! (`tests/fixtures/kanade/paip_*.json`, every count the book states), and the true labelling
 //! of exactly drawn scenes (`render::truth`) found among the labeller's labellings.
 
+use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
@@ -10,7 +11,6 @@ use blockworld::kanade::{
     LabelReport, LineLabel,
 };
 use blockworld::render::truth::visible_line_drawing;
-use blockworld::render::{Camera, CameraOptions, CornerView};
 use blockworld::scene::{read_scene, Scene};
 use std::path::Path;
 
@@ -28,29 +28,7 @@ fn fixture(name: &str) -> Fixture {
     let path = format!("tests/fixtures/kanade/{name}.json");
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let points = v["points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| DVec2::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
-        .collect();
-    let lines = v["lines"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|l| {
-            [
-                l[0].as_u64().unwrap() as usize,
-                l[1].as_u64().unwrap() as usize,
-            ]
-        })
-        .collect();
-    let mut drawing = LineDrawing {
-        points,
-        lines,
-        ..Default::default()
-    };
-    drawing.finalize();
+    let drawing = LineDrawing::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let names = v["names"]
         .as_array()
         .unwrap()
@@ -617,4 +595,45 @@ fn the_gradient_check_keeps_the_true_labels_and_refuses_a_crack_between_faces() 
             assert!(sets[i].contains(LineLabel::Convex) && sets[i].contains(LineLabel::Concave));
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line
+// ---------------------------------------------------------------------------------------------
+
+fn blockworld(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
+    let out = blockworld(&["label", "tests/fixtures/kanade/paip_cube.json"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("combinations: 29,160 before filtering, 216 after"),
+        "{text}"
+    );
+    assert!(text.contains("consistent labellings: 4"), "{text}");
+    let out = blockworld(&[
+        "label",
+        "tests/fixtures/kanade/paip_cube.json",
+        "--json",
+        "--boundary-occluding",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["report"]["count"]["value"], 1);
+    assert_eq!(v["labellings"][0], "+++><<><>");
+
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, r#"{"points": [[0, 0]], "lines": [[0, 3]]}"#).unwrap();
+    let out = blockworld(&["label", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.json") && err.contains("line 0"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
 }

@@ -3,17 +3,17 @@
 //! 6.18), with measured numbers printed beside the thesis's. A thesis number is never printed
 //! in place of a measurement; where they differ, the row says so.
 
-use crate::drawing::LineDrawing;
-use crate::geom::{DVec2, DVec3};
-use crate::kanade::{
+use anyhow::Context;
+use blockworld::camera::{Camera, CameraOptions, CornerView};
+use blockworld::drawing::LineDrawing;
+use blockworld::geom::{DVec2, DVec3};
+use blockworld::kanade::{
     check_labelling, computer_words, depth_rms_px, is_consistent, label_drawing,
     labelling_from_kinds, recover_shape, surface_connection_graph, Catalog, ComputerWords,
     LabelOptions, LabelReport, LineLabel, ShapeRecovery,
 };
-use crate::render::truth::visible_line_drawing;
-use crate::render::{Camera, CameraOptions, CornerView};
-use crate::scene::{read_scene, Scene};
-use anyhow::Context;
+use blockworld::render::truth::visible_line_drawing;
+use blockworld::scene::{read_scene, Scene};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

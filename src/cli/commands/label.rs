@@ -1,19 +1,20 @@
 //! `blockworld label DRAWING.json [--json] [--boundary-occluding] [--catalog C] [--limit N]`:
 //! Kanade's line labelling (thesis Chapter III step 1, Appendix A; Waltz 1975, PAIP ch. 17) of
 //! any line drawing: `lines_<view>.json`, the `vertices` output of the vision stage, or a
-//! hand-made `{"points": [[x, y], ...], "lines": [[i, j], ...]}` (px, x right, y up).
+//! hand-made `{"points": [[x, y], ...], "lines": [[i, j], ...]}` (px, x right, y up), read and
+//! checked by `LineDrawing::from_json`; the labeller also refuses zero-length lines.
 
-use crate::drawing::LineDrawing;
-use crate::geom::DVec2;
-use crate::kanade::{label_drawing, validate, Catalog, LabelOptions, LabelReport, LineLabel};
-use anyhow::{bail, Context};
+use crate::cli::files::read_drawing;
+use anyhow::Context;
+use blockworld::drawing::LineDrawing;
+use blockworld::kanade::{label_drawing, Catalog, LabelOptions, LabelReport, LineLabel};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Options of `blockworld label`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The line drawing (JSON with `points` or `vertices`, and `lines`; other fields ignored).
+    /// The line drawing (JSON with `points` and `lines`; other fields ignored).
     pub drawing: PathBuf,
     /// Print the report as JSON instead of text.
     #[arg(long)]
@@ -79,76 +80,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Reads a drawing file, checking what the labeller needs: every point two finite numbers,
-/// every line two indices of existing, different points. Errors name the file and the fix.
-pub fn read_drawing(path: &Path) -> anyhow::Result<LineDrawing> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    drawing_from_json(&text)
-        .with_context(|| format!("{} is not a usable line drawing", path.display()))
-}
-
-/// Parses `{"points": [[x, y], ...] | "vertices": [{"x", "y"}, ...], "lines": [[i, j], ...]}`.
-pub fn drawing_from_json(text: &str) -> anyhow::Result<LineDrawing> {
-    let v: serde_json::Value = serde_json::from_str(text).context("not JSON")?;
-    let points = if let Some(p) = v.get("points") {
-        read_points(p)?
-    } else if let Some(p) = v.get("vertices") {
-        read_vertices(p)?
-    } else {
-        bail!("no `points` (or `vertices`) field; give the points as [[x, y], ...] in px");
-    };
-    let Some(raw) = v.get("lines").and_then(|l| l.as_array()) else {
-        bail!("no `lines` array; give the lines as [[i, j], ...] (point indices from 0)");
-    };
-    let mut lines = Vec::with_capacity(raw.len());
-    for (i, l) in raw.iter().enumerate() {
-        let pair = l.as_array().filter(|a| a.len() == 2);
-        let idx = pair.and_then(|a| Some([a[0].as_u64()? as usize, a[1].as_u64()? as usize]));
-        let Some(idx) = idx else {
-            bail!("line {i} is not a pair of point indices [i, j]; fix it");
-        };
-        lines.push(idx);
-    }
-    let d = LineDrawing {
-        points,
-        lines,
-        ..Default::default()
-    };
-    validate(&d)?;
-    Ok(d)
-}
-
-fn read_points(p: &serde_json::Value) -> anyhow::Result<Vec<DVec2>> {
-    let Some(arr) = p.as_array() else {
-        bail!("`points` is not an array; give [[x, y], ...]");
-    };
-    arr.iter()
-        .enumerate()
-        .map(|(i, q)| {
-            let xy = q.as_array().filter(|a| a.len() == 2);
-            xy.and_then(|a| Some(DVec2::new(a[0].as_f64()?, a[1].as_f64()?)))
-                .with_context(|| format!("point {i} is not [x, y] with two numbers; fix it"))
-        })
-        .collect()
-}
-
-fn read_vertices(p: &serde_json::Value) -> anyhow::Result<Vec<DVec2>> {
-    let Some(arr) = p.as_array() else {
-        bail!("`vertices` is not an array; give [{{\"x\": .., \"y\": ..}}, ...]");
-    };
-    arr.iter()
-        .enumerate()
-        .map(|(i, q)| {
-            let x = q.get("x").and_then(|x| x.as_f64());
-            let y = q.get("y").and_then(|y| y.as_f64());
-            x.zip(y)
-                .map(|(x, y)| DVec2::new(x, y))
-                .with_context(|| format!("vertex {i} lacks numeric `x` and `y`; fix it"))
-        })
-        .collect()
-}
-
 /// One labelling as one symbol per line: `+ - > < c`, `?` for a free line.
 pub fn labelling_string(l: &[Option<LineLabel>]) -> String {
     l.iter().map(|x| x.map_or('?', |x| x.symbol())).collect()
@@ -167,7 +98,7 @@ fn with_commas(n: u128) -> String {
 }
 
 /// A combination count for humans: exact with commas, or `10^x` when it is too large.
-pub fn combinations_text(c: &crate::kanade::Combinations) -> String {
+pub fn combinations_text(c: &blockworld::kanade::Combinations) -> String {
     match c.exact {
         Some(n) => with_commas(n),
         None => format!("about 10^{:.1}", c.log10),
@@ -248,36 +179,6 @@ fn report_text(path: &Path, d: &LineDrawing, r: &LabelReport, elapsed_ms: f64) -
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn broken_drawings_are_errors_that_say_the_fix() {
-        for (text, says) in [
-            ("[1, 2]", "no `points`"),
-            (r#"{"points": [[0, 0], [1, 1]]}"#, "no `lines`"),
-            (
-                r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 7]]}"#,
-                "names point 7",
-            ),
-            (
-                r#"{"points": [[0, 0], [1, 1]], "lines": [[0, -1]]}"#,
-                "line 0 is not a pair",
-            ),
-            (
-                r#"{"points": [[0, 0], [1]], "lines": []}"#,
-                "point 1 is not [x, y]",
-            ),
-            (
-                r#"{"points": [[0, 0], [0, 0]], "lines": [[0, 1]]}"#,
-                "zero length",
-            ),
-        ] {
-            let err = format!("{:#}", drawing_from_json(text).unwrap_err());
-            assert!(err.contains(says), "{text}: {err}");
-        }
-        let ok =
-            r#"{"vertices": [{"x": 0, "y": 0}, {"x": 1, "y": 2}], "lines": [[0, 1]], "extra": 1}"#;
-        assert_eq!(drawing_from_json(ok).unwrap().lines.len(), 1);
-    }
 
     #[test]
     fn large_counts_get_commas() {
