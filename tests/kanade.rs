@@ -7,8 +7,8 @@ use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
     check_labelling, depth_rms_px, gradient_label_sets, is_consistent, junction_sites,
-    label_drawing, labelling_from_kinds, recover_shape, rotations, Catalog, EndLabel, LabelOptions,
-    LabelReport, LineLabel,
+    label_drawing, labelling_from_kinds, orthographic_px_per_mm, recover_shape, rotations,
+    true_line_ends_px, Catalog, EndLabel, LabelOptions, LabelReport, LineLabel,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
@@ -385,33 +385,17 @@ fn blocks_catalog_is_what_the_training_scenes_show() {
 // Quantitative shape on rendered scenes
 // ---------------------------------------------------------------------------------------------
 
-/// Picture px per mm of an orthographic camera.
-fn px_per_mm(cam: &Camera) -> f64 {
-    cam.size_px[0] as f64 / 2.0 * cam.clip_from_view[0]
-}
-
-/// Both ends of every truth line as (x px, y px, depth towards the viewer in px).
-fn truth_ends_px(d: &LineDrawing, cam: &Camera) -> Vec<Option<[DVec3; 2]>> {
-    let s = px_per_mm(cam);
-    (0..d.lines.len())
-        .map(|i| {
-            let (a, b) = d.edge_world_mm(i)?;
-            let f = |p: DVec3| {
-                let q = cam.picture_from_world(p);
-                DVec3::new(q.x, q.y, -q.z * s)
-            };
-            Some([f(a), f(b)])
-        })
-        .collect()
-}
-
 fn shape_rms_mm(scene: &Scene, view: CornerView) -> (f64, usize, usize) {
     let cam = camera(scene, view);
     let (d, labels) = truth(scene, view);
     let labels: Vec<Option<LineLabel>> = labels.into_iter().map(Some).collect();
     let rec = recover_shape(&d, &labels).unwrap();
-    let (rms_px, n) = depth_rms_px(&rec, &truth_ends_px(&d, &cam)).unwrap();
-    (rms_px / px_per_mm(&cam), n, rec.inconsistent_links)
+    let (rms_px, n) = depth_rms_px(&rec, &true_line_ends_px(&d, &cam)).unwrap();
+    (
+        rms_px / orthographic_px_per_mm(&cam),
+        n,
+        rec.inconsistent_links,
+    )
 }
 
 #[test]
@@ -443,10 +427,10 @@ fn a_wrong_reference_depth_shows_in_the_rms() {
     // Push one line off its surface by a millimetre's worth of depth.
     let i = rec.line_ends_px.iter().rposition(|e| e.is_some()).unwrap();
     if let Some(e) = rec.line_ends_px[i].as_mut() {
-        e[1].z += px_per_mm(&cam);
+        e[1].z += orthographic_px_per_mm(&cam);
     }
-    let (rms_px, n) = depth_rms_px(&rec, &truth_ends_px(&d, &cam)).unwrap();
-    let rms_mm = rms_px / px_per_mm(&cam);
+    let (rms_px, n) = depth_rms_px(&rec, &true_line_ends_px(&d, &cam)).unwrap();
+    let rms_mm = rms_px / orthographic_px_per_mm(&cam);
     assert!((rms_mm - (1.0 / n as f64).sqrt()).abs() < 1e-6, "{rms_mm}");
 }
 

@@ -29,7 +29,10 @@ pub use gradient::{
 };
 pub use graph::{junction_sites, regions, validate, JunctionSite, LineEnd, Region};
 pub use label::{EndLabel, LabelSet, LineLabel};
-pub use truth::{check_labelling, is_consistent, labelling_from_kinds, Violation};
+pub use truth::{
+    check_labelling, is_consistent, labelling_from_kinds, orthographic_px_per_mm,
+    true_line_ends_px, Violation,
+};
 pub use waltz::{
     label_drawing, Combinations, JunctionReport, LabelOptions, LabelReport, LabellingCount,
     Progress, SearchStats,

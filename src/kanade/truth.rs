@@ -6,8 +6,9 @@ use super::catalog::Catalog;
 use super::graph::{junction_sites, regions, validate};
 use super::label::{EndLabel, LineLabel};
 use super::KanadeError;
+use crate::camera::Camera;
 use crate::drawing::{Junction, LineDrawing, LineKind};
-use crate::geom::DVec2;
+use crate::geom::{DVec2, DVec3};
 use serde::Serialize;
 
 /// The labels that a ground-truth drawing's `kinds` say, with each occluding arrow's side taken
@@ -34,6 +35,26 @@ pub fn labelling_from_kinds(d: &LineDrawing, block_centres_px: &[DVec2]) -> Opti
                 }
             })
         })
+        .collect()
+}
+
+/// Picture px per mm across the optical axis of an orthographic camera (the x scale of its
+/// projection), the factor between the gradient space's px and the world's mm.
+pub fn orthographic_px_per_mm(camera: &Camera) -> f64 {
+    f64::from(camera.size_px[0]) / 2.0 * camera.clip_from_view[0]
+}
+
+/// The true 3D ends of every line of a ground-truth drawing (`edges[i].from_mm/to_mm`) in the
+/// frame of [`super::ShapeRecovery::line_ends_px`]: picture x and y in px, and the depth towards
+/// the viewer in px of an orthographic `camera`. `None` for lines without a 3D edge.
+pub fn true_line_ends_px(d: &LineDrawing, camera: &Camera) -> Vec<Option<[DVec3; 2]>> {
+    let s = orthographic_px_per_mm(camera);
+    let f = |p: DVec3| {
+        let q = camera.picture_from_world(p);
+        DVec3::new(q.x, q.y, -q.z * s)
+    };
+    (0..d.lines.len())
+        .map(|i| d.edge_world_mm(i).map(|(a, b)| [f(a), f(b)]))
         .collect()
 }
 

@@ -9,8 +9,8 @@ use blockworld::drawing::LineDrawing;
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
     check_labelling, computer_words, depth_rms_px, is_consistent, label_drawing,
-    labelling_from_kinds, recover_shape, surface_connection_graph, Catalog, ComputerWords,
-    LabelOptions, LabelReport, LineLabel, ShapeRecovery,
+    labelling_from_kinds, orthographic_px_per_mm, recover_shape, surface_connection_graph,
+    true_line_ends_px, Catalog, ComputerWords, LabelOptions, LabelReport, LineLabel, ShapeRecovery,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
@@ -167,23 +167,7 @@ fn truth_of(
         .iter()
         .map(|b| cam.picture_from_world(b.center_mm).truncate())
         .collect();
-    let s = px_per_mm(cam);
-    let ends = (0..d.lines.len())
-        .map(|i| {
-            let (a, b) = d.edge_world_mm(i)?;
-            let f = |p: DVec3| {
-                let q = cam.picture_from_world(p);
-                DVec3::new(q.x, q.y, -q.z * s)
-            };
-            Some([f(a), f(b)])
-        })
-        .collect();
-    (labelling_from_kinds(d, &centres), ends)
-}
-
-/// Picture px per mm of an orthographic camera (x scale of `clip_from_view`).
-fn px_per_mm(cam: &Camera) -> f64 {
-    cam.size_px[0] as f64 / 2.0 * cam.clip_from_view[0]
+    (labelling_from_kinds(d, &centres), true_line_ends_px(d, cam))
 }
 
 /// Kanade's model as run here: a catalog, the outer boundary occluding (Appendix A step 2),
@@ -277,7 +261,7 @@ fn measure(
         .as_ref()
         .and_then(|c| c.1.as_ref())
         .and_then(|rec| depth_rms_px(rec, &truth_ends))
-        .map(|(px, _)| px / px_per_mm(&cam));
+        .map(|(px, _)| px / orthographic_px_per_mm(&cam));
     Ok(Measured {
         drawing,
         report,
@@ -414,7 +398,7 @@ fn suite_row(scene: &Scene, view: CornerView, model: Model) -> anyhow::Result<Su
         .as_ref()
         .and_then(|c| c.1.as_ref())
         .and_then(|rec| depth_rms_px(rec, &ends))
-        .map(|(px, _)| px / px_per_mm(&cam));
+        .map(|(px, _)| px / orthographic_px_per_mm(&cam));
     Ok(SuiteRow {
         supported: scene.expect.as_ref().is_none_or(|e| e.supported),
         count: report.count.value,
