@@ -6,9 +6,10 @@ use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
-    check_labelling, depth_rms_px, gradient_label_sets, is_consistent, junction_sites,
-    label_drawing, labelling_from_kinds, orthographic_px_per_mm, recover_shape, rotations,
-    true_line_ends_px, Catalog, EndLabel, LabelOptions, LabelReport, LineLabel,
+    check_labelling, computer_words, depth_rms_px, gradient_label_sets, is_consistent,
+    junction_sites, label_drawing, labelling_from_kinds, orthographic_px_per_mm, recover_shape,
+    rotations, surface_connection_graph, true_line_ends_px, Catalog, EndLabel, LabelOptions,
+    LabelReport, LineLabel,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
@@ -620,4 +621,22 @@ fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.json") && err.contains("line 0"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn the_cube_takes_the_theses_31_words_against_7() {
+    // Figure 6.17: line labels 9, junction labels 22 (7 junctions + 5 x 3 SCG links), six-bit 7,
+    // 24/31 = 77.42% saved.
+    let s = read_scene(Path::new("scenes/single_cube.json")).unwrap();
+    let (d, labels) = truth(&s, CornerView::Ne);
+    let labels: Vec<Option<LineLabel>> = labels.into_iter().map(Some).collect();
+    let w = computer_words(&d, &surface_connection_graph(&d, &labels).unwrap());
+    assert_eq!(
+        (w.line_labels, w.junction_labels, w.six_bit, w.scg_links),
+        (9, 22, 7, 3)
+    );
+    assert!((100.0 * w.saved() - 77.42).abs() < 0.005);
+    // Without a labelling there is no SCG link, and the count shows it.
+    let none = computer_words(&d, &surface_connection_graph(&d, &[]).unwrap());
+    assert_eq!(none.junction_labels, 7);
 }
