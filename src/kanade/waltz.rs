@@ -360,8 +360,9 @@ fn apply_line_constraints(
     Ok(())
 }
 
-/// Labels `d` (thesis Chapter III's first step; Appendix A steps 1, 2 and the search of step 3
-/// without the gradient check): filtering, then all consistent labellings. `progress` is called
+/// Labels `d` (thesis Chapter III's first step; Appendix A steps 1 and 2, and step 3's search,
+/// with its gradient check when `opts.gradient_check`): filtering, then all consistent
+/// labellings. `progress` is called
 /// every 2^14 search nodes. Errors only on a broken drawing (bad indices, a line from a point to
 /// itself, a non-finite coordinate) or a `ground` pair that is not a line.
 pub fn label_drawing(
