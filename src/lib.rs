@@ -21,6 +21,7 @@ pub mod drawing;
 pub mod export;
 pub mod geom;
 pub mod io;
+pub mod kanade;
 pub mod output;
 pub mod physics;
 pub mod pipeline;

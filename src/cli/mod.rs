@@ -43,6 +43,10 @@ pub enum Command {
     Recognize(commands::recognize::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
+    /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
+    Label(commands::label::Args),
+    /// Kanade's model against the modified model on the same drawings (thesis Figs. 6.17, 6.18).
+    Compare(commands::compare::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
     /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
@@ -79,6 +83,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Recognize(a) => commands::recognize::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::Label(a) => commands::label::run(a),
+        Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::View(a) => commands::view::run(a),
     }

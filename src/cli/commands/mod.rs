@@ -1,10 +1,12 @@
 //! One file per subcommand: clap `Args` plus `run`.
 
 pub mod bench;
+pub mod compare;
 pub mod demo;
 pub mod edges;
 pub mod export;
 pub mod generate;
+pub mod label;
 pub mod merge;
 pub mod recognize;
 pub mod render;

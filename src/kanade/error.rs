@@ -1,0 +1,44 @@
+//! Errors of the Kanade stage: a drawing that cannot be a line drawing.
+
+use thiserror::Error;
+
+/// Why a drawing cannot be labelled. Each message says what to fix in the drawing file.
+#[derive(Debug, Error, PartialEq)]
+pub enum KanadeError {
+    /// A line names a point that does not exist.
+    #[error("line {line} names point {index}, but the drawing has {points} points (indices start at 0); fix the line or add the point")]
+    BadIndex {
+        /// The line.
+        line: usize,
+        /// The bad point index.
+        index: usize,
+        /// How many points there are.
+        points: usize,
+    },
+    /// A line joins a point to itself, or two points at the same place.
+    #[error("line {line} has zero length (both ends are the same point or at the same place); remove it or merge its points")]
+    DegenerateLine {
+        /// The line.
+        line: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error(
+        "point {point} has a coordinate that is not a finite number; give it finite x and y in px"
+    )]
+    NonFinitePoint {
+        /// The point.
+        point: usize,
+    },
+    /// A `ground` pair is not a line of the drawing.
+    #[error("no line joins points {a} and {b}; ground a pair of points that a line joins")]
+    NoSuchLine {
+        /// First point.
+        a: usize,
+        /// Second point.
+        b: usize,
+    },
+    /// The drawing has fewer than three directions of parallel lines, or they cannot depict
+    /// three perpendicular edges.
+    #[error("the drawing does not have three directions of parallel lines depicting perpendicular edges (Kanade's parallel-line and skewed-symmetry heuristics); gradients need a block drawing")]
+    NoGradientSpace,
+}
