@@ -4,6 +4,9 @@
 CARGO ?= cargo
 export XDG_RUNTIME_DIR ?= /tmp/blockworld-xdg
 VULKAN_PKGS := mesa-vulkan-drivers libvulkan1
+# The Khronos glTF-Validator (npm), which tests/gltf_validator.rs runs on every .glb it writes.
+GLTF_VALIDATOR_VERSION := 2.0.0-dev.3.10
+GLTF_VALIDATOR_DIR := target/gltf-validator
 
 .PHONY: setup demo test lint ci bless
 
@@ -15,6 +18,17 @@ setup:
 		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
 		$$SUDO apt-get update -qq && \
 		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(VULKAN_PKGS); \
+	fi
+	@if ! command -v npm >/dev/null 2>&1; then \
+		echo "installing nodejs npm (for the glTF-Validator)"; \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq nodejs npm; \
+	fi
+	@if [ ! -f $(GLTF_VALIDATOR_DIR)/node_modules/gltf-validator/package.json ]; then \
+		echo "installing gltf-validator $(GLTF_VALIDATOR_VERSION) into $(GLTF_VALIDATOR_DIR)"; \
+		npm install --prefix $(GLTF_VALIDATOR_DIR) --no-audit --no-fund --silent \
+			gltf-validator@$(GLTF_VALIDATOR_VERSION); \
 	fi
 
 # Runs the main job on the built-in example (scenes/thesis_sample.json) into out/demo.

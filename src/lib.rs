@@ -15,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+pub mod csg;
 pub mod dataset;
 pub mod drawing;
 pub mod export;
@@ -23,7 +24,10 @@ pub mod io;
 pub mod kanade;
 pub mod output;
 pub mod physics;
+pub mod pipeline;
+pub mod recognize;
 pub mod render;
 pub mod scene;
 pub mod score;
+pub mod view;
 pub mod vision;

@@ -68,6 +68,16 @@ pub fn encode_png_gray8(img: &image::GrayImage) -> std::io::Result<Vec<u8>> {
     )
 }
 
+/// PNG bytes of an 8-bit RGB image (the viewer's pictures).
+pub fn encode_png_rgb8(img: &image::RgbImage) -> std::io::Result<Vec<u8>> {
+    encode_png(
+        img.as_raw(),
+        img.width(),
+        img.height(),
+        ExtendedColorType::Rgb8,
+    )
+}
+
 /// PNG bytes of a 16-bit gray image (the encoder writes PNG's big-endian samples).
 pub fn encode_png_gray16(img: &crate::render::Gray16Image) -> std::io::Result<Vec<u8>> {
     let bytes: &[u8] = bytemuck::cast_slice(img.as_raw());

@@ -32,6 +32,20 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("kanade", &["drawing", "camera", "geom"]),
     ("view", &["scene", "drawing", "camera", "geom"]),
     ("export", &["scene", "drawing", "geom", "io"]),
+    (
+        "pipeline",
+        &[
+            "scene",
+            "render",
+            "vision",
+            "recognize",
+            "csg",
+            "score",
+            "drawing",
+            "camera",
+            "geom",
+        ],
+    ),
     ("cli", &["*"]),
 ];
 

@@ -123,7 +123,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
             "--json-out",
             &json_out,
             "--golden",
-            "golden/accuracy.json",
+            "golden/scorer_reference.json",
         ])
         .output()
         .unwrap();
@@ -134,7 +134,9 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(
-        stdout.contains("family") && stdout.contains("mean IoU") && stdout.contains("flagged"),
+        stdout.contains("family")
+            && stdout.contains("mean IoU")
+            && stdout.contains("confidently wrong"),
         "{stdout}"
     );
     assert!(stdout.contains("gate: ok"), "{stdout}");
@@ -153,7 +155,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
             "--json-out",
             &json_out,
             "--golden",
-            "golden/accuracy.json",
+            "golden/scorer_reference.json",
         ])
         .output()
         .unwrap();

@@ -39,6 +39,8 @@ pub enum Command {
     Edges(commands::edges::Args),
     /// Lines, vertices and six-bit codes of a view (thesis Ch. IV, V).
     Vertices(commands::vertices::Args),
+    /// Recognize the blocks of rendered views (thesis Ch. IV-V): a reconstruction file.
+    Recognize(commands::recognize::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
     /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
@@ -47,6 +49,8 @@ pub enum Command {
     Compare(commands::compare::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
+    /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
+    View(commands::view::Args),
 }
 
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
@@ -77,10 +81,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Score(a) => commands::score::run(a),
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),
+        Command::Recognize(a) => commands::recognize::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Label(a) => commands::label::run(a),
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::View(a) => commands::view::run(a),
     }
 }
 

@@ -5,6 +5,16 @@ use std::path::PathBuf;
 /// A dataset that cannot be generated or merged.
 #[derive(Debug, thiserror::Error)]
 pub enum DatasetError {
+    /// The per-scene file (`generate --gltf`: `scene.glb`) could not be encoded.
+    #[error("scene {id}: encoding {name}: {message}")]
+    SceneFile {
+        /// The scene id.
+        id: String,
+        /// The file name.
+        name: String,
+        /// The encoder's message.
+        message: String,
+    },
     /// A file could not be read or written.
     #[error("{path}: {source}", path = path.display())]
     Io {

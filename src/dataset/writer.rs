@@ -17,7 +17,7 @@ use crate::camera::CornerView;
 use crate::io::write_atomic;
 use crate::physics::SettleParams;
 use crate::render::{RenderOptions, Renderer};
-use crate::scene::{scene_to_json, write_scene};
+use crate::scene::{scene_to_json, write_scene, Scene};
 use rayon::prelude::*;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
@@ -53,6 +53,20 @@ pub struct DatasetOptions {
     pub shard: Shard,
     /// Worker threads; 0 = all cores. Does not change the content.
     pub jobs: usize,
+    /// A further file per scene, beside `scene.json` and in the manifest (`generate --gltf`
+    /// adds `scene.glb`); `None` (the default) writes none.
+    pub scene_file: Option<SceneFileEncoder>,
+}
+
+/// A further per-scene file: its name in the scene folder and the function that encodes the
+/// settled scene into its bytes. The encoder comes from the caller (the CLI passes the glTF
+/// exporter), so this stage does not depend on the exporter.
+#[derive(Debug, Clone, Copy)]
+pub struct SceneFileEncoder {
+    /// File name in the scene folder (`scene.glb`).
+    pub name: &'static str,
+    /// Encodes a scene; the error message names what is wrong with it.
+    pub encode: fn(&Scene) -> Result<Vec<u8>, String>,
 }
 
 /// Seconds spent per stage, summed over the scenes generated (not resumed).
@@ -112,7 +126,7 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
 fn dataset_json(opts: &DatasetOptions) -> Value {
     let mut render = serde_json::to_value(opts.render).expect("render options serialize");
     render["noise_seed"] = json!("the scene's seed");
-    json!({
+    let mut v = json!({
         "version": LAYOUT_VERSION,
         "generator": format!("blockworld {}", env!("CARGO_PKG_VERSION")),
         "count": opts.count,
@@ -123,7 +137,30 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
         "views": opts.views.iter().map(|v| v.name()).collect::<Vec<_>>(),
         "render": render,
         "settle": serde_json::to_value(opts.settle).expect("settle parameters serialize"),
-    })
+    });
+    // Listed only when there is one, so datasets without it keep their dataset.json; a resume
+    // with or without it is refused as other options.
+    if let Some(f) = &opts.scene_file {
+        v["scene_files"] = json!([f.name]);
+    }
+    v
+}
+
+/// Encodes and writes the per-scene file; returns its name and sha256.
+fn write_scene_file(
+    scene_dir: &Path,
+    id: &str,
+    scene: &Scene,
+    f: &SceneFileEncoder,
+) -> Result<(String, String), DatasetError> {
+    let bytes = (f.encode)(scene).map_err(|message| DatasetError::SceneFile {
+        id: id.to_string(),
+        name: f.name.to_string(),
+        message,
+    })?;
+    let path = scene_dir.join(f.name);
+    write_atomic(&path, &bytes).map_err(io_err(&path))?;
+    Ok((f.name.to_string(), sha256_hex(&bytes)))
 }
 
 fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
@@ -155,6 +192,12 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
                     .iter()
                     .filter(|(k, v)| found.get(k.as_str()) != Some(v))
                     .map(|(k, _)| k.clone())
+                    .chain(
+                        found
+                            .get("scene_files")
+                            .filter(|_| wanted.get("scene_files").is_none())
+                            .map(|_| "scene_files".to_string()),
+                    )
                     .collect();
                 return Err(DatasetError::OptionsMismatch {
                     path,
@@ -260,6 +303,10 @@ fn produce_scene(
         SCENE_FILE.to_string(),
         sha256_hex(scene_to_json(&drawn.scene).as_bytes()),
     );
+    if let Some(f) = &opts.scene_file {
+        let (name, sha) = write_scene_file(&scene_dir, &spec.id(), &drawn.scene, f)?;
+        files.insert(name, sha);
+    }
     if !views.is_empty() {
         let written =
             crate::output::write_rendered_views(&scene_dir, &views).map_err(io_err(&scene_dir))?;

@@ -12,6 +12,15 @@
 //! functions return bytes and `cli` writes them.
 
 mod mesh;
+mod overlay;
+mod thesis;
+
+pub use overlay::{reconstruction_with_truth_to_glb, reconstruction_with_truth_to_gltf};
+
+pub use thesis::{
+    parse_thesis_files, scene_to_thesis_files, thesis_model_to_scene, thesis_origin_mm,
+    ThesisDataFiles, ThesisFormatError, ThesisModel, Truncation, THESIS_UNIT_MM,
+};
 
 use crate::scene::{BlockType, Scene};
 use gltf::json;
@@ -109,20 +118,7 @@ pub fn scene_to_gltf(scene: &Scene) -> Result<GltfFiles, ExportError> {
         });
     }
     let mut doc = DocumentBuilder::new(scene)?;
-    let mut mesh_of_type: Vec<(&str, json::Index<json::Mesh>)> = Vec::new();
-    let mut nodes = Vec::with_capacity(scene.blocks.len());
-    for (index, block) in scene.blocks.iter().enumerate() {
-        let id = block.block_type.id;
-        let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
-            Some((_, m)) => *m,
-            None => {
-                let m = doc.push_mesh(block.block_type)?;
-                mesh_of_type.push((id, m));
-                m
-            }
-        };
-        nodes.push(doc.push_node(scene, index, mesh)?);
-    }
+    let nodes = doc.push_block_nodes(scene, None)?;
     Ok(doc.finish(scene, nodes))
 }
 
@@ -228,10 +224,12 @@ impl DocumentBuilder {
         })
     }
 
-    /// Adds the flat-shaded mesh of one block type, named by its catalog id.
+    /// Adds the flat-shaded mesh of one block type, named by its catalog id, drawn with
+    /// `material` (the glTF default material when `None`).
     fn push_mesh(
         &mut self,
         block_type: &BlockType,
+        material: Option<json::Index<json::Material>>,
     ) -> Result<json::Index<json::Mesh>, ExportError> {
         use json::accessor::{ComponentType, Type};
         use json::buffer::Target;
@@ -272,12 +270,36 @@ impl DocumentBuilder {
                 extensions: Default::default(),
                 extras: Default::default(),
                 indices: Some(indices),
-                material: None,
+                material,
                 mode: Valid(json::mesh::Mode::Triangles),
                 targets: None,
             }],
             weights: None,
         }))
+    }
+
+    /// Adds a node per block of `scene` and a mesh per block type it uses (in order of first
+    /// use, drawn with `material`); returns the nodes in block order.
+    fn push_block_nodes(
+        &mut self,
+        scene: &Scene,
+        material: Option<json::Index<json::Material>>,
+    ) -> Result<Vec<json::Index<json::Node>>, ExportError> {
+        let mut mesh_of_type: Vec<(&str, json::Index<json::Mesh>)> = Vec::new();
+        let mut nodes = Vec::with_capacity(scene.blocks.len());
+        for (index, block) in scene.blocks.iter().enumerate() {
+            let id = block.block_type.id;
+            let mesh = match mesh_of_type.iter().find(|(t, _)| *t == id) {
+                Some((_, m)) => *m,
+                None => {
+                    let m = self.push_mesh(block.block_type, material)?;
+                    mesh_of_type.push((id, m));
+                    m
+                }
+            };
+            nodes.push(self.push_node(scene, index, mesh)?);
+        }
+        Ok(nodes)
     }
 
     /// Adds the node of block `index`: its mesh at its pose (centre in metres, unit quaternion).

@@ -65,29 +65,47 @@ impl CsgNode {
     }
 }
 
-/// What one view says about the answer: the observed drawing held against the answer's own
-/// exact drawing in that view (Chapter V, comparison of views).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// What one view contributed and how the answer's own exact drawing of that view compares with
+/// the observed one (the thesis's intermediate data, Chapter VI; the check of Chapter V's
+/// comparison of views). All four mismatch counts are 0 when the view is explained.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ViewEvidence {
     /// The view's name (`ne`, `se`, `sw`, `nw`).
     pub view: String,
-    /// Lines in the observed drawing.
-    pub observed_lines: usize,
-    /// Lines in the answer's own drawing of this view.
-    pub predicted_lines: usize,
-    /// Observed lines that the answer's drawing also has.
-    pub explained_lines: usize,
-    /// Largest distance between an observed point and its predicted match, px.
-    pub max_point_error_px: f64,
+    /// "Y" and collinear "T" vertices selected (Figure 5.1).
+    pub selected_vertices: usize,
+    /// Parallelograms searched from them (Figure 4.5).
+    pub parallelograms: usize,
+    /// Of those, closed ones.
+    pub closed_parallelograms: usize,
+    /// Catalog blocks proposed from them.
+    pub proposals: usize,
+    /// Observed points the answer's drawing does not have.
+    pub unexplained_points: usize,
+    /// Points the answer draws that were not observed.
+    pub extra_points: usize,
+    /// Observed lines the answer's drawing does not have.
+    pub unexplained_lines: usize,
+    /// Lines the answer draws that were not observed.
+    pub extra_lines: usize,
+}
+
+impl ViewEvidence {
+    /// `true` when the answer's drawing and the observed one agree.
+    pub fn is_explained(&self) -> bool {
+        self.unexplained_points + self.extra_points + self.unexplained_lines + self.extra_lines == 0
+    }
 }
 
 /// The checks a recognizer made before answering.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Evidence {
     /// One entry per view used.
     pub views: Vec<ViewEvidence>,
+    /// Distinct candidate blocks after the views were pooled.
+    pub pooled_candidates: usize,
 }
 
 /// A recognizer's answer (README "Reconstruction files").

@@ -29,8 +29,12 @@ pub struct SceneResult {
     /// A known failure case (`supported == false`) that came out `unsupported` or `failed`, as
     /// it should.
     pub flagged: bool,
-    /// A known failure case that came out `exact` or `partial`: its mark needs a look.
+    /// A known failure case that came out `partial`: neither declined nor exact.
     pub unexpected_pass: bool,
+    /// The recognizer answered `ok` but the answer is not `exact`: the worst outcome
+    /// (README "Recognizer").
+    #[serde(default)]
+    pub confidently_wrong: bool,
     /// Why the scene has no score (missing reconstruction file, scoring error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -72,6 +76,7 @@ pub fn score_suite_scene(
     opts: &ScoreOptions,
 ) -> SceneResult {
     let supported = truth.is_supported();
+    let answered_ok = recon.as_ref().is_ok_and(|r| r.is_ok());
     let scored = recon
         .map_err(|e| e.0)
         .and_then(|r| score_reconstruction_with_options(truth, r, opts).map_err(|e| e.to_string()));
@@ -97,7 +102,8 @@ pub fn score_suite_scene(
         mean_center_error_mm,
         layers_right,
         flagged: !supported && !recognized,
-        unexpected_pass: !supported && recognized,
+        unexpected_pass: !supported && verdict == Verdict::Partial,
+        confidently_wrong: answered_ok && verdict != Verdict::Exact,
         note,
     }
 }
@@ -119,8 +125,14 @@ pub struct FamilySummary {
     pub expected_failures: usize,
     /// Of those, how many came out unsupported or failed.
     pub flagged: usize,
-    /// Of those, how many came out exact or partial.
+    /// Of those, how many came out partial.
     pub unexpected_passes: usize,
+    /// Scenes answered `ok` that are not exact.
+    #[serde(default)]
+    pub confidently_wrong: usize,
+    /// Scenes declined (`unsupported`).
+    #[serde(default)]
+    pub declined: usize,
 }
 
 /// Per-family summaries, sorted by family, plus an `"all"` row last.
@@ -148,6 +160,11 @@ fn summarize<'a>(family: &str, rs: impl Iterator<Item = &'a SceneResult>) -> Fam
         expected_failures: rs.iter().filter(|r| !r.supported).count(),
         flagged: rs.iter().filter(|r| r.flagged).count(),
         unexpected_passes: rs.iter().filter(|r| r.unexpected_pass).count(),
+        confidently_wrong: rs.iter().filter(|r| r.confidently_wrong).count(),
+        declined: rs
+            .iter()
+            .filter(|r| r.verdict == Verdict::Unsupported)
+            .count(),
     }
 }
 
@@ -181,8 +198,8 @@ pub struct Golden {
 pub const BLESS_COMMAND: &str = "BLESS=1 cargo test --test accuracy_gate";
 
 impl Golden {
-    /// The golden file accepting `results` as they are.
-    pub fn from_results(results: &[SceneResult]) -> Golden {
+    /// The golden file accepting `results` as they are; `bless` is the command that remakes it.
+    pub fn from_results(results: &[SceneResult], bless: &str) -> Golden {
         let mut scenes: Vec<GoldenScene> = results
             .iter()
             .map(|r| GoldenScene {
@@ -195,7 +212,7 @@ impl Golden {
             .collect();
         scenes.sort_by(|a, b| a.id.cmp(&b.id));
         Golden {
-            bless: BLESS_COMMAND.to_string(),
+            bless: bless.to_string(),
             iou_drop_tolerance: 0.01,
             scenes,
         }
@@ -223,7 +240,16 @@ pub enum GateFailure {
         /// Verdict now.
         now: Verdict,
     },
-    /// A known failure case flagged in golden now passes (exact/partial).
+    /// A scene's verdict ranks below its golden one ([`Verdict::rank`]).
+    VerdictWorse {
+        /// Scene id.
+        id: String,
+        /// Golden verdict.
+        golden: Verdict,
+        /// Verdict now.
+        now: Verdict,
+    },
+    /// A known failure case declined in golden is now neither declined nor exact.
     NoLongerFlagged {
         /// Scene id.
         id: String,
@@ -259,6 +285,12 @@ impl std::fmt::Display for GateFailure {
                 "{id}: known failure case now passes as {}; if that is real, change its expect mark",
                 now.as_str()
             ),
+            GateFailure::VerdictWorse { id, golden, now } => write!(
+                f,
+                "{id}: verdict got worse ({} -> {})",
+                golden.as_str(),
+                now.as_str()
+            ),
             GateFailure::MissingResult { id } => write!(f, "{id}: in golden but not scored"),
             GateFailure::NotInGolden { id } => write!(f, "{id}: scored but not in golden ({BLESS_COMMAND})"),
         }
@@ -287,7 +319,14 @@ pub fn check_gate(golden: &Golden, results: &[SceneResult]) -> Vec<GateFailure> 
                 now: r.verdict,
             });
         }
-        if g.flagged && !r.flagged {
+        if r.verdict.rank() < g.verdict.rank() {
+            failures.push(GateFailure::VerdictWorse {
+                id: g.id.clone(),
+                golden: g.verdict,
+                now: r.verdict,
+            });
+        }
+        if g.flagged && !(r.flagged || r.verdict == Verdict::Exact) {
             failures.push(GateFailure::NoLongerFlagged {
                 id: g.id.clone(),
                 now: r.verdict,

@@ -59,6 +59,18 @@ impl Verdict {
         matches!(self, Verdict::Exact | Verdict::Partial)
     }
 
+    /// How good the verdict is, for the gate: `exact` 3, `unsupported` 2 (an honest decline),
+    /// `partial` 1, `failed` 0. A decline ranks above a partial answer because a recognizer
+    /// must never be confidently wrong (README "Recognizer").
+    pub fn rank(self) -> u8 {
+        match self {
+            Verdict::Exact => 3,
+            Verdict::Unsupported => 2,
+            Verdict::Partial => 1,
+            Verdict::Failed => 0,
+        }
+    }
+
     /// The lowercase name used in files and tables.
     pub fn as_str(self) -> &'static str {
         match self {

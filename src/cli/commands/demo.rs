@@ -3,14 +3,19 @@
 //! rapier3d, renders the four corner views with their ground truth into DIR (default
 //! `out/demo`), runs the vision front end on each view (Sobel, least-squares lines, vertices and
 //! six-bit codes; `vertices_<view>.json`) and compares it with the exact line drawing, and
-//! exports the sample as glTF (`<scene>.glb`). Later issues extend it (recognize, score).
+//! recognizes the sample from the four pictures (`reconstruction.json`), scores it against the
+//! truth, and exports the sample as glTF (`<scene>.glb`).
 
 use crate::cli::view_args::parse_backend;
 use anyhow::Context;
 use blockworld::camera::CornerView;
+use blockworld::csg::reconstruction;
 use blockworld::physics::{settle, SettleParams};
+use blockworld::pipeline::{observe, PipelineOptions};
+use blockworld::recognize::recognize;
 use blockworld::render::{RenderOptions, RenderedView, Renderer};
-use blockworld::scene::read_scene;
+use blockworld::scene::{read_scene, reconstruction_to_json, Scene};
+use blockworld::score::score_reconstruction;
 use blockworld::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use std::path::{Path, PathBuf};
 
@@ -75,6 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for v in &views {
         println!("{}", vision_summary(v, &args.out)?);
     }
+    recognize_summary(&scene, &views, &args.out)?;
     let glb_path = args.out.join(format!("{}.glb", scene.name));
     let glb = blockworld::export::scene_to_glb(&scene)
         .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
@@ -85,6 +91,36 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         scene.blocks.len(),
         glb_path.display(),
         glb.len()
+    );
+    Ok(())
+}
+
+/// Recognizes the sample from the four pictures (vision, then the modified Kanade recognizer),
+/// writes `reconstruction.json`, scores it against the truth and prints the verdict.
+fn recognize_summary(scene: &Scene, views: &[RenderedView], out: &Path) -> anyhow::Result<()> {
+    let opts = PipelineOptions::default();
+    let (observed, _) = observe(views, &opts.source).context("vision on the demo views")?;
+    let recognition =
+        recognize(&observed, &opts.recognize).context("recognizing the demo views")?;
+    let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
+    let path = out.join("reconstruction.json");
+    blockworld::io::write_atomic(&path, reconstruction_to_json(&recon).as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    let score = score_reconstruction(scene, &recon).context("scoring the reconstruction")?;
+    println!(
+        "recognize: {} -> {} blocks, status {} -> {}; against the truth: {} (IoU {:.4}, {} of {} blocks matched){}",
+        views.len(),
+        recon.blocks.len(),
+        if recon.is_ok() { "ok" } else { "unsupported" },
+        path.display(),
+        score.verdict.as_str(),
+        score.iou,
+        score.matched_blocks,
+        score.truth_blocks,
+        recon
+            .reason
+            .as_deref()
+            .map_or(String::new(), |r| format!("; reason: {r}"))
     );
     Ok(())
 }

@@ -2,9 +2,9 @@
 //! Ch. VI "Display the Final Sample": look at the block sample from any viewpoint).
 
 use anyhow::{bail, Context};
-use blockworld::export::{scene_to_glb, scene_to_gltf_json};
+use blockworld::export::{reconstruction_with_truth_to_gltf, scene_to_gltf, GltfFiles};
 use blockworld::io::write_atomic;
-use blockworld::scene::read_scene;
+use blockworld::scene::{read_reconstruction, read_scene};
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld export`.
@@ -16,6 +16,16 @@ pub struct Args {
     /// `<stem>.bin` beside it.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// gltf (by the output's extension), or thesis: the two data files of Appendix B,
+    /// OUTPUT_vertices.txt and OUTPUT_connections.txt, in block units (Chapter VI).
+    #[arg(long, default_value = "gltf")]
+    pub format: String,
+    /// With a glTF output: the truth scene to put beside SCENE, which is then read as a
+    /// reconstruction; the file holds node groups `truth` and `reconstruction`, scenes
+    /// `overlay`, `truth` and `reconstruction`, a material per role, and the block types and
+    /// CSG tree in `extras`.
+    #[arg(long)]
+    pub truth: Option<PathBuf>,
 }
 
 /// The two glTF forms, chosen by the output's extension.
@@ -42,18 +52,23 @@ fn form_of(path: &Path) -> anyhow::Result<Form> {
 /// Runs `blockworld export`: reads and validates the scene, builds the glTF and writes it
 /// atomically (for `.gltf`, the `.bin` first so the JSON never points at a missing file).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    match args.format.to_ascii_lowercase().as_str() {
+        "gltf" => {}
+        "thesis" => return run_thesis(&args),
+        other => bail!("--format: unknown format {other:?}; the formats are gltf and thesis"),
+    }
     let form = form_of(&args.output)?;
-    let scene = read_scene(&args.scene)?;
     let out = &args.output;
     let context = || format!("exporting {} to {}", args.scene.display(), out.display());
+    let (files, blocks) = gltf_files(&args).with_context(context)?;
     match form {
         Form::Glb => {
-            let glb = scene_to_glb(&scene).with_context(context)?;
+            let glb = files.to_glb().with_context(context)?;
             write_atomic(out, &glb).with_context(|| format!("writing {}", out.display()))?;
             println!(
                 "{}: {} blocks -> {} ({} bytes)",
                 args.scene.display(),
-                scene.blocks.len(),
+                blocks,
                 out.display(),
                 glb.len()
             );
@@ -64,15 +79,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .with_context(|| format!("{}: no file name", out.display()))?;
-            let (text, bin) = scene_to_gltf_json(&scene, &bin_name).with_context(context)?;
-            write_atomic(&bin_path, &bin)
+            let text = files.to_gltf_json(&bin_name).with_context(context)?;
+            let bin = &files.bin;
+            write_atomic(&bin_path, bin)
                 .with_context(|| format!("writing {}", bin_path.display()))?;
             write_atomic(out, text.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
             println!(
                 "{}: {} blocks -> {} + {} ({} + {} bytes)",
                 args.scene.display(),
-                scene.blocks.len(),
+                blocks,
                 out.display(),
                 bin_path.display(),
                 text.len(),
@@ -80,5 +96,48 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// The glTF document of the scene, or of the reconstruction beside its `--truth`, and the
+/// number of blocks in it.
+fn gltf_files(args: &Args) -> anyhow::Result<(GltfFiles, usize)> {
+    let Some(truth_path) = &args.truth else {
+        let scene = read_scene(&args.scene)?;
+        return Ok((scene_to_gltf(&scene)?, scene.blocks.len()));
+    };
+    let truth = read_scene(truth_path)
+        .with_context(|| format!("reading the truth scene {}", truth_path.display()))?;
+    let recon = read_reconstruction(&args.scene)
+        .with_context(|| format!("reading the reconstruction {}", args.scene.display()))?;
+    let files = reconstruction_with_truth_to_gltf(&truth, &recon)?;
+    Ok((files, truth.blocks.len() + recon.blocks.len()))
+}
+
+/// `--format thesis`: the Appendix B data files, vertices first so a reader that finds the
+/// connections file finds its vertices too.
+fn run_thesis(args: &Args) -> anyhow::Result<()> {
+    let scene = super::view::read_model(&args.scene, blockworld::export::Truncation::Strict)?;
+    let files = blockworld::export::scene_to_thesis_files(&scene).with_context(|| {
+        format!(
+            "exporting {} as Appendix B data files",
+            args.scene.display()
+        )
+    })?;
+    let prefix = args.output.display().to_string();
+    for (suffix, text) in [
+        ("_vertices.txt", &files.vertices),
+        ("_connections.txt", &files.connections),
+    ] {
+        let path = PathBuf::from(format!("{prefix}{suffix}"));
+        write_atomic(&path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    println!(
+        "{}: {} blocks -> {prefix}_vertices.txt, {prefix}_connections.txt (block units of {} mm)",
+        args.scene.display(),
+        scene.blocks.len(),
+        blockworld::export::THESIS_UNIT_MM
+    );
     Ok(())
 }

@@ -7,9 +7,13 @@
 
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
-use blockworld::dataset::{generate_dataset, DatasetOptions, Family, GenerateSummary, Shard};
+use blockworld::dataset::{
+    generate_dataset, DatasetOptions, Family, GenerateSummary, SceneFileEncoder, Shard,
+};
+use blockworld::export::scene_to_glb;
 use blockworld::physics::SettleParams;
 use blockworld::render::Renderer;
+use blockworld::scene::Scene;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -40,6 +44,9 @@ pub struct Args {
     #[arg(long)]
     pub shards: Option<u64>,
     /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
+    /// Also write each settled scene as binary glTF, `scene.glb`, listed in the manifest.
+    #[arg(long)]
+    pub gltf: bool,
     #[command(flatten)]
     pub view: ViewArgs,
 }
@@ -109,7 +116,19 @@ fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
 /// The dataset options of a command line.
 pub fn dataset_options(args: &Args) -> anyhow::Result<DatasetOptions> {
     let shard = resolve_shard(args)?;
-    checked_options(args.count, &args.families, &args.view, args.jobs, shard)
+    let opts = checked_options(args.count, &args.families, &args.view, args.jobs, shard)?;
+    Ok(DatasetOptions {
+        scene_file: args.gltf.then_some(SceneFileEncoder {
+            name: "scene.glb",
+            encode: encode_glb,
+        }),
+        ..opts
+    })
+}
+
+/// The settled scene as binary glTF (`generate --gltf`), for the dataset's `scene.glb`.
+fn encode_glb(scene: &Scene) -> Result<Vec<u8>, String> {
+    scene_to_glb(scene).map_err(|e| e.to_string())
 }
 
 /// Dataset options from checked command-line values (shared with `bench generate`);
@@ -130,6 +149,7 @@ pub fn checked_options(
         settle: SettleParams::default(),
         shard,
         jobs,
+        scene_file: None,
     })
 }
 

@@ -2,7 +2,8 @@
 //! count and verdict of a reconstruction against its truth (README "Scoring and the accuracy suite").
 
 use anyhow::Context;
-use blockworld::scene::{read_reconstruction, read_scene};
+use blockworld::export::Truncation;
+use blockworld::scene::{read_reconstruction, read_scene, Reconstruction};
 use blockworld::score::{score_reconstruction, Score, ScoreOptions};
 use std::path::PathBuf;
 
@@ -12,7 +13,7 @@ pub struct Args {
     /// The ground-truth scene file.
     pub truth: PathBuf,
     /// The reconstruction: a scene file with `status` (ok or unsupported, with `reason`); its
-    /// blocks may overlap.
+    /// blocks may overlap. Appendix B data files (PREFIX_vertices.txt) are read too.
     pub recon: PathBuf,
     /// Print the score as JSON instead of a table.
     #[arg(long)]
@@ -21,10 +22,20 @@ pub struct Args {
 
 /// Runs `blockworld score`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let truth = read_scene(&args.truth)
-        .with_context(|| format!("reading the truth scene {}", args.truth.display()))?;
-    let recon = read_reconstruction(&args.recon)
-        .with_context(|| format!("reading the reconstruction {}", args.recon.display()))?;
+    // Appendix B data files are read back too (Chapter VI menu r, "read blocksample").
+    let truth = match super::view::thesis_pair(&args.truth) {
+        Some(_) => super::view::read_model(&args.truth, Truncation::Strict)?,
+        None => read_scene(&args.truth)
+            .with_context(|| format!("reading the truth scene {}", args.truth.display()))?,
+    };
+    let recon = match super::view::thesis_pair(&args.recon) {
+        Some(_) => {
+            let s = super::view::read_model(&args.recon, Truncation::Strict)?;
+            Reconstruction::ok(s.name, s.blocks)
+        }
+        None => read_reconstruction(&args.recon)
+            .with_context(|| format!("reading the reconstruction {}", args.recon.display()))?,
+    };
     let score = score_reconstruction(&truth, &recon).with_context(|| {
         format!(
             "scoring {} against {}",

@@ -3,6 +3,8 @@
 
 mod accuracy;
 mod generate;
+pub mod machine;
+mod recognize;
 mod render;
 mod vision;
 
@@ -23,6 +25,8 @@ enum Which {
     Accuracy(accuracy::Args),
     /// Vision front end against ground truth: precision, recall, code accuracy, ms per step.
     Vision(vision::Args),
+    /// ms per scene of the recognizer alone and of vision plus recognizer, and its memory.
+    Recognize(recognize::Args),
 }
 
 /// Runs one benchmark.
@@ -32,5 +36,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Which::Generate(a) => generate::run(a),
         Which::Accuracy(a) => accuracy::run(a),
         Which::Vision(a) => vision::run(a),
+        Which::Recognize(a) => recognize::run(a),
     }
 }

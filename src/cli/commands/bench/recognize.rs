@@ -1,0 +1,137 @@
+//! `blockworld bench recognize`: milliseconds per scene (all four views) for the modified
+//! Kanade recognizer alone and for the vision front end plus the recognizer, median over the
+//! accuracy suite and for a 12-block stack, on one core (the recognizer is single-threaded;
+//! rendering happens before the clock starts). Also the thesis's memory claim (Chapter VI,
+//! Figure 6.17), measured: the bytes of the six-bit vertex table against everything else the
+//! recognizer keeps for a scene.
+
+use super::machine::banner;
+use super::render::bench_scene;
+use crate::cli::view_args::ViewArgs;
+use anyhow::Context;
+use blockworld::pipeline::{observe, DrawingSource};
+use blockworld::recognize::{recognize, ObservedView, Recognition, RecognizeOptions};
+use blockworld::render::Renderer;
+use blockworld::scene::{read_scene, Block, Scene};
+use blockworld::vision::VisionOptions;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Options of `blockworld bench recognize`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// How the views are rendered.
+    #[command(flatten)]
+    pub view: Box<ViewArgs>,
+    /// The suite: a directory of scene files.
+    #[arg(long, default_value = "scenes/bench")]
+    pub suite: PathBuf,
+    /// Timed runs per scene; the fastest counts.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+}
+
+/// One scene's figures.
+struct Figures {
+    blocks: usize,
+    recognize_ms: f64,
+    vision_ms: f64,
+    six_bit_bytes: usize,
+    other_bytes: usize,
+}
+
+fn fastest_ms(repeat: usize, mut f: impl FnMut()) -> f64 {
+    (0..repeat.max(1))
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The six-bit table is one byte per vertex (six bits used); everything else: the drawings'
+/// points, lines and junction classes, and the recognizer's candidate and answer blocks.
+fn memory_bytes(views: &[ObservedView], r: &Recognition) -> (usize, usize) {
+    let vertices: usize = views.iter().map(|v| v.drawing.points.len()).sum();
+    let lines: usize = views.iter().map(|v| v.drawing.lines.len()).sum();
+    let drawing = vertices * (std::mem::size_of::<[f64; 2]>() + 1) + lines * 2 * 8;
+    let blocks = (r.evidence.pooled_candidates + r.blocks.len()) * std::mem::size_of::<Block>();
+    (vertices, drawing + blocks)
+}
+
+fn measure(renderer: &Renderer, scene: &Scene, args: &Args) -> anyhow::Result<Figures> {
+    let opts = args.view.render_options()?;
+    let views = args.view.corner_views()?;
+    let rendered = renderer.render_views(scene, &views, &opts)?;
+    let source = DrawingSource::Pictures(VisionOptions::default());
+    let mut observed = Vec::new();
+    let vision_ms = fastest_ms(args.repeat, || {
+        observed = observe(&rendered, &source)
+            .map(|(v, _)| v)
+            .unwrap_or_default();
+    });
+    let ropts = RecognizeOptions::default();
+    let mut last = None;
+    let recognize_ms = fastest_ms(args.repeat, || {
+        last = recognize(&observed, &ropts).ok();
+    });
+    let r = last.context("the recognizer refused its input")?;
+    let (six_bit_bytes, other_bytes) = memory_bytes(&observed, &r);
+    Ok(Figures {
+        blocks: scene.blocks.len(),
+        recognize_ms,
+        vision_ms,
+        six_bit_bytes,
+        other_bytes,
+    })
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// Runs `blockworld bench recognize`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let renderer = Renderer::new(args.view.backend()?).context("starting the renderer")?;
+    print!("{}", banner(Some(&renderer)));
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&args.suite)
+        .with_context(|| format!("reading the suite {}", args.suite.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    paths.sort();
+    let mut suite = Vec::new();
+    for p in &paths {
+        let scene = read_scene(p)?;
+        suite.push(measure(&renderer, &scene, &args)?);
+    }
+    let twelve = measure(&renderer, &bench_scene(12), &args)?;
+    println!(
+        "ms per scene ({} views, fastest of {}), one core:",
+        args.view.corner_views()?.len(),
+        args.repeat
+    );
+    println!("| scenes | blocks | recognizer alone | vision + recognizer | six-bit table bytes | everything else bytes |");
+    println!("|---|---|---|---|---|---|");
+    let med = |f: &dyn Fn(&Figures) -> f64| median(suite.iter().map(f).collect());
+    println!(
+        "| suite median ({} scenes) | {:.0} | {:.2} | {:.2} | {:.0} | {:.0} |",
+        suite.len(),
+        med(&|f| f.blocks as f64),
+        med(&|f| f.recognize_ms),
+        med(&|f| f.recognize_ms + f.vision_ms),
+        med(&|f| f.six_bit_bytes as f64),
+        med(&|f| f.other_bytes as f64),
+    );
+    println!(
+        "| 12-block stack | {} | {:.2} | {:.2} | {} | {} |",
+        twelve.blocks,
+        twelve.recognize_ms,
+        twelve.recognize_ms + twelve.vision_ms,
+        twelve.six_bit_bytes,
+        twelve.other_bytes
+    );
+    Ok(())
+}

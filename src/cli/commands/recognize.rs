@@ -1,0 +1,98 @@
+//! `blockworld recognize DIR -o RECON.json [--views ne,se,sw,nw] [--from-truth]`: the modified
+//! Kanade recognizer (thesis Chapters IV-V) on a directory as `render` writes it, per view
+//! `view_<v>.png` + `camera_<v>.json` (or the exact `lines_<v>.json` with `--from-truth`).
+//! Writes a reconstruction file: the scene-file blocks plus `status`, `reason` and the CSG tree
+//! (Figure 4.6).
+
+use crate::cli::files::{read_camera, read_drawing, read_picture};
+use anyhow::Context;
+use blockworld::camera::CornerView;
+use blockworld::csg::reconstruction;
+use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
+use blockworld::scene::reconstruction_to_json;
+use blockworld::vision::{detect_line_drawing, VisionOptions};
+use std::path::{Path, PathBuf};
+
+/// Options of `blockworld recognize`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Directory with `camera_<v>.json` and `view_<v>.png` (or `lines_<v>.json`) per view.
+    pub dir: PathBuf,
+    /// The reconstruction file to write.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Comma-separated corner views to use (any subset, e.g. `ne,sw`).
+    #[arg(long, value_delimiter = ',', default_value = "ne,se,sw,nw")]
+    pub views: Vec<String>,
+    /// Read the exact line drawings `lines_<v>.json` instead of running the vision front end
+    /// on `view_<v>.png`.
+    #[arg(long)]
+    pub from_truth: bool,
+}
+
+/// Reads one view of `dir`: its camera and its drawing (exact, or from the picture).
+fn read_view(dir: &Path, view: CornerView, from_truth: bool) -> anyhow::Result<ObservedView> {
+    let v = view.name();
+    let camera_path = dir.join(format!("camera_{v}.json"));
+    if !camera_path.exists() {
+        anyhow::bail!(
+            "{}: missing; every view needs its camera (render the directory with `blockworld render`, or drop {v} from --views)",
+            camera_path.display()
+        );
+    }
+    let camera = read_camera(&camera_path)?;
+    if camera.view != view {
+        anyhow::bail!(
+            "{}: holds the {} view, not {v}; re-render the directory",
+            camera_path.display(),
+            camera.view.name()
+        );
+    }
+    let drawing = if from_truth {
+        read_drawing(&dir.join(format!("lines_{v}.json")))?
+    } else {
+        let picture = dir.join(format!("view_{v}.png"));
+        let gray = read_picture(&picture)?;
+        detect_line_drawing(&gray, &camera, &VisionOptions::default())
+            .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
+            .drawing
+    };
+    Ok(ObservedView { drawing, camera })
+}
+
+/// Runs `blockworld recognize`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let views = args
+        .views
+        .iter()
+        .map(|v| {
+            CornerView::parse(v)
+                .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let observed = views
+        .iter()
+        .map(|&v| read_view(&args.dir, v, args.from_truth))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let recognition = recognize(&observed, &RecognizeOptions::default())
+        .with_context(|| format!("recognizing {}", args.dir.display()))?;
+    let name = args
+        .dir
+        .file_name()
+        .map_or("recognized".into(), |n| n.to_string_lossy().into_owned());
+    let recon = reconstruction(&name, &recognition, 0.5);
+    blockworld::io::write_atomic(&args.output, reconstruction_to_json(&recon).as_bytes())
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    eprintln!(
+        "{}: {} blocks in {} layers -> {}{}",
+        args.dir.display(),
+        recognition.blocks.len(),
+        recognition.layers.len(),
+        args.output.display(),
+        recognition
+            .reason
+            .as_deref()
+            .map_or(String::new(), |r| format!(" (unsupported: {r})"))
+    );
+    Ok(())
+}

@@ -1,0 +1,189 @@
+//! The whole method on a scene, in memory, as the thesis's flow chart runs it (Figure 5.3):
+//! the corner views rendered with their ground truth → the line drawings (the vision front end
+//! on the pictures, or the exact drawings, to tell recognition errors from vision errors) →
+//! the modified Kanade recognizer → its CSG reconstruction → its score against the truth.
+//!
+//! The one home of suite running: `bench accuracy`, `bench recognize`, the accuracy gate
+//! (`tests/accuracy_gate.rs`) and `demo` call [`run_scene`] and [`run_suite`]. Each stage's
+//! time is counted where the stage is called ([`StageTimes`]), so benches print what the
+//! stages measured instead of re-running their steps. No file I/O.
+
+use crate::camera::CornerView;
+use crate::csg::reconstruction;
+use crate::recognize::{recognize, ObservedView, RecognizeOptions};
+use crate::render::{RenderOptions, RenderedView, Renderer};
+use crate::scene::{Reconstruction, Scene};
+use crate::score::{score_suite_scene, NoReconstruction, SceneResult, ScoreOptions};
+use crate::vision::{detect_line_drawing, VisionOptions};
+use serde::Serialize;
+use std::time::Instant;
+
+/// Where the recognizer's line drawings come from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DrawingSource {
+    /// The vision front end on the rendered pictures (the method as the thesis ran it).
+    Pictures(VisionOptions),
+    /// The exact visible line drawings of the ground truth (`--from-truth`).
+    Truth,
+}
+
+/// How a scene is run through the pipeline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PipelineOptions {
+    /// How the views are rendered.
+    pub render: RenderOptions,
+    /// Which corner views (the thesis: two opposite ones for simple samples, four otherwise).
+    pub views: Vec<CornerView>,
+    /// Pictures through vision, or the exact drawings.
+    pub source: DrawingSource,
+    /// The recognizer's tolerances and limits.
+    pub recognize: RecognizeOptions,
+    /// The scorer's tolerances and bars.
+    pub score: ScoreOptions,
+    /// Block bottoms within this height share a layer of the CSG, mm; default 0.5.
+    pub layer_tol_mm: f64,
+}
+
+impl Default for PipelineOptions {
+    fn default() -> Self {
+        PipelineOptions {
+            render: RenderOptions::default(),
+            views: CornerView::ALL.to_vec(),
+            source: DrawingSource::Pictures(VisionOptions::default()),
+            recognize: RecognizeOptions::default(),
+            score: ScoreOptions::default(),
+            layer_tol_mm: 0.5,
+        }
+    }
+}
+
+/// Milliseconds spent in each stage for one scene (all views together).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct StageTimes {
+    /// Rendering the pictures and their ground truth.
+    pub render_ms: f64,
+    /// The vision front end (0 with exact drawings).
+    pub vision_ms: f64,
+    /// The recognizer and its CSG.
+    pub recognize_ms: f64,
+    /// Scoring against the truth.
+    pub score_ms: f64,
+}
+
+/// One scene through the pipeline.
+#[derive(Debug, Clone)]
+pub struct SceneRun {
+    /// The score and verdict.
+    pub result: SceneResult,
+    /// The recognizer's answer (`None` when the input could not be made, e.g. a render error).
+    pub reconstruction: Option<Reconstruction>,
+    /// Indices of truth blocks that no view shows at all (no pixel in any `ids` picture): no
+    /// picture can recover them, so they are counted apart.
+    pub unseen_blocks: Vec<usize>,
+    /// Time per stage.
+    pub times: StageTimes,
+}
+
+fn ms_since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Blocks (indices) that no rendered view shows: their id (index + 1) is in no `ids` picture.
+pub fn unseen_blocks(scene: &Scene, views: &[RenderedView]) -> Vec<usize> {
+    let mut seen = vec![false; scene.blocks.len()];
+    for v in views {
+        for &id in v.ids.as_raw() {
+            if let Some(s) = (id as usize).checked_sub(1).and_then(|i| seen.get_mut(i)) {
+                *s = true;
+            }
+        }
+    }
+    (0..seen.len()).filter(|&i| !seen[i]).collect()
+}
+
+/// The observed views of rendered pictures: each view's drawing from `source` and its camera.
+/// Returns the views and the milliseconds spent in vision.
+pub fn observe(
+    rendered: &[RenderedView],
+    source: &DrawingSource,
+) -> Result<(Vec<ObservedView>, f64), crate::vision::VisionError> {
+    let t = Instant::now();
+    let views = rendered
+        .iter()
+        .map(|v| {
+            let drawing = match source {
+                DrawingSource::Truth => v.lines.clone(),
+                DrawingSource::Pictures(o) => detect_line_drawing(&v.gray, &v.camera, o)?.drawing,
+            };
+            Ok(ObservedView {
+                drawing,
+                camera: v.camera,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let vision_ms = match source {
+        DrawingSource::Truth => 0.0,
+        DrawingSource::Pictures(_) => ms_since(t),
+    };
+    Ok((views, vision_ms))
+}
+
+/// Renders `scene`, recognizes it and scores the answer against it (see the module doc).
+/// Failures to render, to see or to recognize become a `failed` result with the reason.
+pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOptions) -> SceneRun {
+    let mut times = StageTimes::default();
+    let t = Instant::now();
+    let rendered = renderer.render_views(scene, &opts.views, &opts.render);
+    times.render_ms = ms_since(t);
+    let answer = rendered
+        .as_ref()
+        .map_err(|e| NoReconstruction(format!("rendering: {e}")))
+        .and_then(|r| {
+            let (views, vision_ms) =
+                observe(r, &opts.source).map_err(|e| NoReconstruction(format!("vision: {e}")))?;
+            times.vision_ms = vision_ms;
+            let t = Instant::now();
+            let recognition = recognize(&views, &opts.recognize)
+                .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
+            let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
+            times.recognize_ms = ms_since(t);
+            Ok(recon)
+        });
+    let unseen = rendered
+        .as_ref()
+        .map(|r| unseen_blocks(scene, r))
+        .unwrap_or_default();
+    let t = Instant::now();
+    let result = score_suite_scene(
+        id,
+        scene,
+        answer.as_ref().map_err(Clone::clone),
+        &opts.score,
+    );
+    times.score_ms = ms_since(t);
+    SceneRun {
+        result,
+        reconstruction: answer.ok(),
+        unseen_blocks: unseen,
+        times,
+    }
+}
+
+/// Runs every `(id, scene)` of a suite through [`run_scene`], in order.
+pub fn run_suite(
+    renderer: &Renderer,
+    suite: &[(String, Scene)],
+    opts: &PipelineOptions,
+) -> Vec<SceneRun> {
+    suite
+        .iter()
+        .map(|(id, scene)| run_scene(renderer, id, scene, opts))
+        .collect()
+}
+
+/// A run is *confidently wrong* when the recognizer answered `ok` but the answer is not exact:
+/// the worst outcome a recognizer can give (README "Recognizer").
+pub fn is_confidently_wrong(run: &SceneRun) -> bool {
+    run.reconstruction.as_ref().is_some_and(|r| r.is_ok())
+        && run.result.verdict != crate::score::Verdict::Exact
+}

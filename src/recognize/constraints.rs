@@ -1,0 +1,140 @@
+//! What the method cannot do (thesis Chapter VII), detected and named so the recognizer
+//! declines instead of guessing: lines in no six-bit direction, blocks not in one direction,
+//! an upper layer larger than the layer below (Figure 7.2), blocks with no visible support.
+
+use super::catalog_match::bounds_mm;
+use super::Camera;
+use crate::drawing::LineDrawing;
+use crate::geom::{DVec2, DVec3};
+use crate::scene::Block;
+
+/// Lines of `drawing` whose picture direction is not that of a world axis (x, y or z) seen by
+/// `camera` within `tol_deg`: the edges of a block turned by other than a multiple of 90
+/// degrees (Chapter VII: "the gradients have to be changed to deal with different block
+/// directions"). In perspective views each axis direction is taken towards its vanishing point.
+pub fn lines_off_the_axes(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) -> Vec<usize> {
+    let target = DVec3::from_array(camera.target_mm);
+    drawing
+        .lines
+        .iter()
+        .enumerate()
+        .filter(|(_, &[a, b])| {
+            let (pa, pb) = (drawing.points[a], drawing.points[b]);
+            let mid = (pa + pb) / 2.0;
+            let (o, d) = camera.ray_through_picture(mid.x, mid.y);
+            let at = o + d * (target - o).dot(d);
+            let p0 = camera.picture_from_world(at).truncate();
+            ![DVec3::X, DVec3::Y, DVec3::Z].iter().any(|axis| {
+                let q: DVec2 = camera.picture_from_world(at + *axis).truncate() - p0;
+                let ang = q.angle_to(pb - pa).abs().to_degrees();
+                ang.min(180.0 - ang) <= tol_deg
+            })
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The blocks directly below `b` (touching its bottom face, footprints overlapping).
+fn supports<'a>(b: &Block, blocks: &'a [Block], tol_mm: f64) -> Vec<&'a Block> {
+    let (lo, hi) = bounds_mm(b);
+    blocks
+        .iter()
+        .filter(|o| {
+            let (olo, ohi) = bounds_mm(o);
+            (ohi.y - lo.y).abs() <= tol_mm
+                && ohi.x.min(hi.x) - olo.x.max(lo.x) > tol_mm
+                && ohi.z.min(hi.z) - olo.z.max(lo.z) > tol_mm
+        })
+        .collect()
+}
+
+/// Blocks above the floor with no block under them (Chapter VII: every block touches the
+/// floor or another block): their support is hidden in every view.
+pub fn floating_blocks(blocks: &[Block], tol_mm: f64) -> Vec<usize> {
+    (0..blocks.len())
+        .filter(|&i| {
+            bounds_mm(&blocks[i]).0.y > tol_mm && supports(&blocks[i], blocks, tol_mm).is_empty()
+        })
+        .collect()
+}
+
+/// Blocks whose footprint is not covered by the blocks they rest on: the upper layer larger
+/// than the layer below of Figure 7.2, where "parallelogram surfaces cannot be found from each
+/// corner direction". Sampled on a `step_mm` grid inside the footprint.
+pub fn overhanging_blocks(blocks: &[Block], tol_mm: f64, step_mm: f64) -> Vec<usize> {
+    (0..blocks.len())
+        .filter(|&i| {
+            let b = &blocks[i];
+            let (lo, hi) = bounds_mm(b);
+            if lo.y <= tol_mm {
+                return false;
+            }
+            let under: Vec<(DVec3, DVec3)> = supports(b, blocks, tol_mm)
+                .iter()
+                .map(|s| bounds_mm(s))
+                .collect();
+            let nx = ((hi.x - lo.x) / step_mm).ceil().max(1.0) as usize;
+            let nz = ((hi.z - lo.z) / step_mm).ceil().max(1.0) as usize;
+            (0..=nx).any(|ix| {
+                (0..=nz).any(|iz| {
+                    let x = lo.x + tol_mm + (hi.x - lo.x - 2.0 * tol_mm) * ix as f64 / nx as f64;
+                    let z = lo.z + tol_mm + (hi.z - lo.z - 2.0 * tol_mm) * iz as f64 / nz as f64;
+                    !under.iter().any(|(l, h)| {
+                        x >= l.x - tol_mm
+                            && x <= h.x + tol_mm
+                            && z >= l.z - tol_mm
+                            && z <= h.z + tol_mm
+                    })
+                })
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recognize::{CameraOptions, CornerView};
+    use crate::render::truth::visible_line_drawing;
+    use crate::scene::Scene;
+
+    #[test]
+    fn a_b30_across_a_b30_overhangs_and_a_b15_on_a_b30_does_not() {
+        let lower = Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0);
+        let crossed = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 90.0);
+        let small = Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0);
+        assert_eq!(overhanging_blocks(&[lower, crossed], 0.5, 1.0), vec![1]);
+        assert!(overhanging_blocks(&[lower, small], 0.5, 1.0).is_empty());
+        // A b30 bridging two towers (Figure 7.2's larger upper layer) overhangs the gap.
+        let bridge = [
+            Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(37.5, 7.5, 7.5), 0.0),
+            Block::new("b30", DVec3::new(22.5, 22.5, 7.5), 0.0),
+        ];
+        assert_eq!(overhanging_blocks(&bridge, 0.5, 1.0), vec![2]);
+    }
+
+    #[test]
+    fn a_block_in_the_air_floats() {
+        let b = [
+            Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(37.5, 22.5, 7.5), 0.0),
+        ];
+        assert_eq!(floating_blocks(&b, 0.5), vec![1]);
+    }
+
+    #[test]
+    fn a_turned_block_draws_lines_off_the_axes() {
+        let straight = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
+        let turned = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 30.0);
+        for (b, off) in [(straight, false), (turned, true)] {
+            let cam = Camera::frame(
+                &b.world_vertices(),
+                CornerView::Ne,
+                &CameraOptions::default(),
+            );
+            let d = visible_line_drawing(&Scene::new("t", vec![b]), &cam);
+            assert_eq!(!lines_off_the_axes(&d, &cam, 2.0).is_empty(), off);
+        }
+    }
+}

@@ -1,0 +1,478 @@
+//! The modified Kanade recognizer (thesis Chapters IV and V, flow chart Figure 5.3): from the
+//! line drawings of one or more corner views and their cameras, the placed catalog blocks.
+//!
+//! 1. [`select_vertices`]: the "Y" and collinear "T" vertices, sorted by picture y (Figure 5.1).
+//! 2. [`ParallelogramSearch`]: from each, along the directions its six-bit code allows, close
+//!    the top face (Figure 4.5); vertex, height and side lengths in px, converted to mm through
+//!    the camera's rays ([`measure_parallelogram_mm`], [`point_at_height_mm`],
+//!    [`drop_below_mm`]).
+//! 3. [`catalog_candidates`]: the catalog blocks (yaw 0 or 90) those measurements fit, at every
+//!    layer height (sums of catalog heights, bottom layer at y = 0); [`classify_layers`] and
+//!    [`touching_pairs`] for the answer.
+//! 4. [`pool_candidates`] and [`choose_blocks`]: the views compared (Chapter V's three rules),
+//!    a block hidden in one view recovered from another; any subset of the four views.
+//! 5. CSG: in the `csg` stage.
+//! 6. [`check_hypothesis`]: the answer's own exact line drawing (`render::truth`) held against
+//!    every observed view; `ok` only when every view is explained, otherwise `unsupported` with
+//!    the reason, as also for what Chapter VII says the method cannot do
+//!    ([`lines_off_the_axes`], [`overhanging_blocks`], [`floating_blocks`]).
+
+mod catalog_match;
+mod compare;
+mod constraints;
+mod parallelogram;
+mod select;
+mod verify;
+
+/// The camera types this stage and `csg` use (the one import of them, so the camera's move to
+/// its own module is a one-line change).
+pub(crate) use crate::camera::Camera;
+#[cfg(test)]
+pub(crate) use crate::camera::{CameraOptions, CornerView, Projection};
+
+pub use catalog_match::{
+    blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
+    level_heights_mm, make_touching_flush, measure_parallelogram_mm, touching_pairs, Layer,
+    MatchTolerances, ParallelogramMm,
+};
+pub use compare::{
+    catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates,
+    yaw_deg, PooledCandidate, SearchLimits, FLUSH_TOL_MM,
+};
+pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
+pub use parallelogram::{
+    drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
+    ParallelogramSearch, TopCorner,
+};
+pub use select::{is_searched_junction, select_vertices, SelectedVertex};
+pub use verify::{
+    check_hypothesis, compare_drawings, distance_to_segment_px, draw_hypothesis, ViewCheck,
+};
+
+use crate::drawing::LineDrawing;
+use crate::scene::{Block, ReconStatus};
+
+/// One observed view: its line drawing (ground truth or vision) and its camera.
+#[derive(Debug, Clone)]
+pub struct ObservedView {
+    /// The line drawing in picture px.
+    pub drawing: LineDrawing,
+    /// The camera that took it.
+    pub camera: Camera,
+}
+
+/// Options of [`recognize`]: tolerances and search limits, with the unit in each name.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecognizeOptions {
+    /// Points closer than this are the same point, px; default 2 (the vision front end's
+    /// vertices lie within 0.5 px on average, README "Vision front end").
+    pub tol_px: f64,
+    /// Highest top face considered, mm; default 120 (eight 15 mm layers).
+    pub max_height_mm: f64,
+    /// Catalog-match tolerances.
+    pub matching: MatchTolerances,
+    /// Lines more than this off every world axis mean blocks not in one direction, degrees;
+    /// default 3.
+    pub axis_tol_deg: f64,
+    /// Candidates redrawn exactly per search step before looking further; default 8.
+    pub shortlist: usize,
+    /// Most candidates redrawn per search step; default 64.
+    pub max_redraws_per_step: usize,
+    /// Most blocks in an answer; default 40.
+    pub max_blocks: usize,
+    /// Repair rounds of the search when views stay unexplained; default 4.
+    pub repair_rounds: usize,
+}
+
+impl Default for RecognizeOptions {
+    fn default() -> Self {
+        RecognizeOptions {
+            tol_px: 2.0,
+            max_height_mm: 120.0,
+            matching: MatchTolerances::default(),
+            axis_tol_deg: 3.0,
+            shortlist: 8,
+            max_redraws_per_step: 64,
+            max_blocks: 40,
+            repair_rounds: 4,
+        }
+    }
+}
+
+/// Why the recognizer declined (status `unsupported`), in the thesis's words.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Decline {
+    /// Lines within 2 degrees of horizontal (Chapter IV's six directions do not cover them).
+    #[error("view {view}: {count} lines fall in no six-bit direction (Chapter IV); blocks are not in one direction (Chapter VII)")]
+    UnclassifiedLines {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// Lines along no world axis.
+    #[error("view {view}: {count} lines run along no block axis: blocks not in one direction (yaw not a multiple of 90 degrees, Chapter VII)")]
+    NotOneDirection {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// The verified answer has an upper block larger than what it rests on.
+    #[error("upper layer larger than the layer below (Chapter VII, Figure 7.2): block {block} overhangs its support")]
+    UpperLayerLarger {
+        /// Index of the overhanging block in the hypothesis.
+        block: usize,
+    },
+    /// Another set of catalog blocks explains every view equally well.
+    #[error("the views do not decide the blocks: {detail}")]
+    Ambiguous {
+        /// Which blocks, and how.
+        detail: String,
+    },
+    /// A block with nothing under it.
+    #[error("block {block} has no visible support (Chapter VII: every block touches the floor or another block)")]
+    HiddenSupport {
+        /// Index of the floating block in the hypothesis.
+        block: usize,
+    },
+    /// The best hypothesis does not explain a view.
+    #[error("view {view} not explained by catalog blocks: {} observed points and {} lines unexplained, {} points and {} lines drawn in excess (shapes outside the catalog or occlusion the views cannot resolve)", .check.unexplained_points, .check.unexplained_lines, .check.extra_points, .check.extra_lines)]
+    Unexplained {
+        /// The view's name.
+        view: String,
+        /// Its comparison.
+        check: ViewCheck,
+    },
+}
+
+/// Bad input to [`recognize`] (a programming or file error, not a scene the method declines).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecognizeError {
+    /// No views given.
+    #[error("no views to recognize: give at least one line drawing with its camera")]
+    NoViews,
+    /// A drawing refers to points it does not have, or has non-finite points.
+    #[error("view {view}: {problem}; re-create the drawing (lines_<view>.json) with `blockworld render` or the vision front end")]
+    BadDrawing {
+        /// The view's name.
+        view: String,
+        /// What is wrong.
+        problem: String,
+    },
+}
+
+/// What each view contributed (the thesis's intermediate data files, Chapter VI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewEvidence {
+    /// The view's name.
+    pub view: String,
+    /// "Y" and collinear "T" vertices selected.
+    pub selected_vertices: usize,
+    /// Top-face parallelograms searched from them.
+    pub parallelograms: usize,
+    /// Of those, closed ones.
+    pub closed_parallelograms: usize,
+    /// Catalog blocks proposed.
+    pub proposals: usize,
+    /// The final comparison of the hypothesis's drawing with this view.
+    pub check: ViewCheck,
+}
+
+/// The recognizer's evidence: per-view counts, pooled candidates and the hypothesis tested.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Evidence {
+    /// One entry per view, in input order.
+    pub views: Vec<ViewEvidence>,
+    /// Distinct candidate blocks after pooling the views.
+    pub pooled_candidates: usize,
+    /// The blocks the search chose (also when declined).
+    pub hypothesis: Vec<Block>,
+}
+
+/// The recognizer's answer: placed catalog blocks with a status and reason, the layers and
+/// touching pairs, and the evidence. Converts 1:1 to a reconstruction [`Scene`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recognition {
+    /// The blocks (empty when declined).
+    pub blocks: Vec<Block>,
+    /// `Ok` or `Unsupported`.
+    pub status: ReconStatus,
+    /// Why it declined.
+    pub reason: Option<String>,
+    /// The layers of `blocks`, lowest first.
+    pub layers: Vec<Layer>,
+    /// Pairs of `blocks` that touch.
+    pub touching: Vec<[usize; 2]>,
+    /// How the answer was reached.
+    pub evidence: Evidence,
+}
+
+impl Recognition {
+    fn declined(decline: Decline, evidence: Evidence) -> Recognition {
+        Recognition {
+            blocks: Vec::new(),
+            status: ReconStatus::Unsupported,
+            reason: Some(decline.to_string()),
+            layers: Vec::new(),
+            touching: Vec::new(),
+            evidence,
+        }
+    }
+}
+
+fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
+    let d = &view.drawing;
+    let bad = |problem: String| RecognizeError::BadDrawing {
+        view: view.camera.view.name().to_string(),
+        problem,
+    };
+    if let Some(p) = d.points.iter().find(|p| !p.is_finite()) {
+        return Err(bad(format!("point {p} is not finite")));
+    }
+    if let Some(l) = d
+        .lines
+        .iter()
+        .find(|l| l.iter().any(|&i| i >= d.points.len()))
+    {
+        return Err(bad(format!(
+            "line {l:?} refers to a point beyond the {} points",
+            d.points.len()
+        )));
+    }
+    if d.codes.len() != d.points.len() || d.junctions.len() != d.points.len() {
+        return Err(bad("codes or junctions are not one per point".to_string()));
+    }
+    Ok(())
+}
+
+/// Chapter VII's direction constraint on the observed drawings, before any search.
+fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<Decline> {
+    for v in views {
+        let view = v.camera.view.name().to_string();
+        if !v.drawing.unclassified_lines.is_empty() {
+            let count = v.drawing.unclassified_lines.len();
+            return Some(Decline::UnclassifiedLines { view, count });
+        }
+        let off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
+        if !off.is_empty() {
+            let count = off.len();
+            return Some(Decline::NotOneDirection { view, count });
+        }
+    }
+    None
+}
+
+/// Steps 1-3 on one view: its proposals and evidence counts.
+fn propose(
+    view: &ObservedView,
+    levels: &[f64],
+    opts: &RecognizeOptions,
+) -> (Vec<Block>, ViewEvidence) {
+    let selected = select_vertices(&view.drawing);
+    let search = ParallelogramSearch::new(&view.drawing, opts.tol_px);
+    let mut ev = ViewEvidence {
+        view: view.camera.view.name().to_string(),
+        selected_vertices: selected.len(),
+        parallelograms: 0,
+        closed_parallelograms: 0,
+        proposals: 0,
+        check: ViewCheck::default(),
+    };
+    let mut out = Vec::new();
+    for v in &selected {
+        for face in Face::ALL {
+            let Some(p) = search.search(v, face) else {
+                continue;
+            };
+            ev.parallelograms += 1;
+            ev.closed_parallelograms += usize::from(p.closed.is_some());
+            out.extend(catalog_candidates(
+                &p,
+                &view.drawing,
+                &view.camera,
+                levels,
+                &opts.matching,
+            ));
+        }
+    }
+    ev.proposals = out.len();
+    (out, ev)
+}
+
+/// Codes, junctions and unclassified lines from each drawing's own geometry
+/// (`LineDrawing::finalize`), so the selection does not depend on which front end drew it.
+fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
+    views
+        .iter()
+        .map(|v| {
+            let mut drawing = v.drawing.clone();
+            drawing.finalize();
+            ObservedView {
+                drawing,
+                camera: v.camera,
+            }
+        })
+        .collect()
+}
+
+/// Blocks closer than this in mm are one candidate, share a layer, touch, or rest on each
+/// other (far below any catalog size, far above the measurement error).
+pub const SAME_PLACE_TOL_MM: f64 = 0.5;
+
+/// Step 6 and Chapter VII on the chosen blocks: why to decline, if at all.
+fn final_checks(
+    blocks: &[Block],
+    checks: &[ViewCheck],
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+) -> Option<Decline> {
+    if let Some((v, c)) = views.iter().zip(checks).find(|(_, c)| !c.is_explained()) {
+        let view = v.camera.view.name().to_string();
+        return Some(Decline::Unexplained { view, check: *c });
+    }
+    if let Some(detail) = equally_good_alternative(blocks, views, opts.tol_px) {
+        return Some(Decline::Ambiguous { detail });
+    }
+    if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
+        return Some(Decline::UpperLayerLarger { block });
+    }
+    floating_blocks(blocks, SAME_PLACE_TOL_MM)
+        .first()
+        .map(|&block| Decline::HiddenSupport { block })
+}
+
+/// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
+/// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status
+/// `Unsupported`; an `Err` means the input itself is malformed.
+pub fn recognize(
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+) -> Result<Recognition, RecognizeError> {
+    if views.is_empty() {
+        return Err(RecognizeError::NoViews);
+    }
+    views.iter().try_for_each(check_drawing)?;
+    let views = &normalize_views(views)[..];
+    let mut evidence = Evidence::default();
+    if let Some(d) = check_directions(views, opts) {
+        return Ok(Recognition::declined(d, evidence));
+    }
+    let levels = level_heights_mm(opts.max_height_mm);
+    let mut per_view = Vec::new();
+    for v in views {
+        let (blocks, ev) = propose(v, &levels, opts);
+        per_view.push(blocks);
+        evidence.views.push(ev);
+    }
+    let pool = pool_candidates(&per_view, SAME_PLACE_TOL_MM);
+    evidence.pooled_candidates = pool.len();
+    let limits = SearchLimits {
+        tol_px: opts.tol_px,
+        shortlist: opts.shortlist,
+        max_redraws_per_step: opts.max_redraws_per_step,
+        max_blocks: opts.max_blocks,
+        repair_rounds: opts.repair_rounds,
+    };
+    let (blocks, checks) = choose_blocks(&pool, views, &limits);
+    for (ev, c) in evidence.views.iter_mut().zip(&checks) {
+        ev.check = *c;
+    }
+    evidence.hypothesis = blocks.clone();
+    if let Some(d) = final_checks(&blocks, &checks, views, opts) {
+        return Ok(Recognition::declined(d, evidence));
+    }
+    Ok(Recognition {
+        layers: classify_layers(&blocks, SAME_PLACE_TOL_MM),
+        touching: touching_pairs(&blocks, SAME_PLACE_TOL_MM),
+        blocks,
+        status: ReconStatus::Ok,
+        reason: None,
+        evidence,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::DVec3;
+
+    fn views_of(blocks: &[Block], which: &[CornerView]) -> Vec<ObservedView> {
+        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        which
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &CameraOptions::default());
+                let drawing = draw_hypothesis(blocks, &camera);
+                ObservedView { drawing, camera }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_two_layer_stack_is_recognized_from_two_opposite_views() {
+        let truth = vec![
+            Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+        ];
+        let views = views_of(&truth, &[CornerView::Ne, CornerView::Sw]);
+        let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+        assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
+        assert_eq!(r.blocks.len(), 2);
+        for t in &truth {
+            assert!(r
+                .blocks
+                .iter()
+                .any(|b| b.block_type.id == t.block_type.id
+                    && b.center_mm.distance(t.center_mm) < 1e-6));
+        }
+        assert_eq!(r.layers.len(), 2);
+        assert_eq!(r.touching, vec![[0, 1]]);
+    }
+
+    #[test]
+    fn a_perspective_view_pair_is_recognized_too() {
+        let truth = vec![Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 90.0)];
+        let pts: Vec<DVec3> = truth[0].world_vertices();
+        let opts = CameraOptions {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            ..CameraOptions::default()
+        };
+        let views: Vec<ObservedView> = [CornerView::Ne, CornerView::Sw]
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &opts);
+                ObservedView {
+                    drawing: draw_hypothesis(&truth, &camera),
+                    camera,
+                }
+            })
+            .collect();
+        let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+        assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
+        assert!(r.blocks[0].center_mm.distance(truth[0].center_mm) < 0.05);
+    }
+
+    #[test]
+    fn bad_input_is_an_error_and_a_turned_block_is_declined_by_name() {
+        assert_eq!(
+            recognize(&[], &RecognizeOptions::default()),
+            Err(RecognizeError::NoViews)
+        );
+        let cube = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let mut views = views_of(&cube, &[CornerView::Ne]);
+        views[0].drawing.lines.push([0, 99]);
+        assert!(matches!(
+            recognize(&views, &RecognizeOptions::default()),
+            Err(RecognizeError::BadDrawing { .. })
+        ));
+        let turned = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 30.0)];
+        let r = recognize(
+            &views_of(&turned, &[CornerView::Ne]),
+            &RecognizeOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(r.status, ReconStatus::Unsupported);
+        assert!(r.reason.unwrap().contains("not in one direction"));
+    }
+}
