@@ -43,6 +43,8 @@ pub enum Command {
     Recognize(commands::recognize::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
+    /// Export a dataset's exact line drawings for wireframe parsers (HAWP, L-CNN, LETR).
+    ExportDataset(commands::export_dataset::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
     /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
@@ -79,6 +81,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Recognize(a) => commands::recognize::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::ExportDataset(a) => commands::export_dataset::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::View(a) => commands::view::run(a),
     }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod demo;
 pub mod edges;
 pub mod export;
+pub mod export_dataset;
 pub mod generate;
 pub mod merge;
 pub mod recognize;

@@ -11,7 +11,7 @@
 //! junction) and `line_kind` (per line); they describe the picture as rendered and are invalid
 //! after flip or rotation augmentation (a flip mirrors arrows' and codes' directions).
 
-use super::{Split, Wireframe, JUNCTION_STEPS_PER_PX};
+use super::{Split, Wireframe};
 use serde_json::{json, Value};
 
 /// The export formats.
@@ -140,9 +140,9 @@ pub fn letr_image(image_id: u64, file_name: &str, wf: &Wireframe) -> Value {
 
 /// The COCO `annotations` of one picture for LETR, ids from `first_id`: `line` as
 /// `[x, y, dx, dy]` (start point and offset to the end, raster px), `category_id` 0, plus
-/// `line_kind` and `border_ends`.
+/// `line_kind` and `border_ends`. The start is the shared junction coordinate exactly; a reader's
+/// `x + dx` lands within 1e-12 px of the end junction (f64 cannot always hit it exactly).
 pub fn letr_annotations(image_id: u64, first_id: u64, wf: &Wireframe) -> Vec<Value> {
-    let round = |v: f64| (v * JUNCTION_STEPS_PER_PX).round() / JUNCTION_STEPS_PER_PX;
     (0..wf.edges.len())
         .map(|i| {
             let [x1, y1, x2, y2] = wf.line_px(i);
@@ -151,7 +151,7 @@ pub fn letr_annotations(image_id: u64, first_id: u64, wf: &Wireframe) -> Vec<Val
                 "image_id": image_id,
                 "category_id": 0,
                 "iscrowd": 0,
-                "line": [x1, y1, round(x2 - x1), round(y2 - y1)],
+                "line": [x1, y1, x2 - x1, y2 - y1],
                 "line_kind": wf.line_kinds[i],
                 "border_ends": wf.border_ends(i),
             })

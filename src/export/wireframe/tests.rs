@@ -114,3 +114,23 @@ fn records_carry_each_formats_keys() {
     assert_eq!(ann[1]["id"], 101);
     assert_eq!(ann[1]["category_id"], 0);
 }
+
+#[test]
+fn letr_lines_start_on_the_exact_junction_and_end_within_1e_12_px() {
+    // 184 + (37.9689 - 184) is not 37.9689 in f64: the offset form can miss the shared end
+    // coordinate by an ulp, and no other f64 offset hits it either.
+    let d = LineDrawing {
+        points: vec![
+            DVec2::new(184.0, 80.0 - 37.9689),
+            DVec2::new(120.7379, 80.0 - 57.6),
+        ],
+        lines: vec![[1, 0]],
+        ..Default::default()
+    };
+    let wf = wireframe_from_drawing(&d, 200, 80).unwrap();
+    let ann = &letr_annotations(1, 1, &wf)[0]["line"];
+    let [x, y, dx, dy] = [0, 1, 2, 3].map(|k| ann[k].as_f64().unwrap());
+    assert_eq!([x, y], wf.junctions[0].xy_px);
+    let [ex, ey] = wf.junctions[1].xy_px;
+    assert!((x + dx - ex).abs() <= 1e-12 && (y + dy - ey).abs() <= 1e-12);
+}
