@@ -510,3 +510,96 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
     );
     assert!(!fresh.join("train.json").exists() && !fresh.join("valid.json").exists());
 }
+
+/// Draws a read-back HAWP item over its picture, 2x enlarged: lines coloured by `line_kind`
+/// (boundary red, convex green, concave blue, crack orange), junctions as yellow squares
+/// outlined in black. Uses only what the reader got from the files.
+fn overlay(l: &Labelled) -> image::RgbImage {
+    const SCALE: f64 = 2.0;
+    let gray = image::open(&l.picture).unwrap().to_luma8();
+    let mut img = image::RgbImage::from_fn(gray.width() * 2, gray.height() * 2, |x, y| {
+        let v = gray.get_pixel(x / 2, y / 2).0[0];
+        image::Rgb([v, v, v])
+    });
+    let mut put = |img: &mut image::RgbImage, x: f64, y: f64, c: [u8; 3]| {
+        let (px, py) = ((x * SCALE).floor(), (y * SCALE).floor());
+        if px >= 0.0 && py >= 0.0 && (px as u32) < img.width() && (py as u32) < img.height() {
+            img.put_pixel(px as u32, py as u32, image::Rgb(c));
+        }
+    };
+    for (line, kind) in l.lines.iter().zip(&l.kinds) {
+        let c = match kind.as_str() {
+            "boundary" => [220, 30, 30],
+            "convex" => [20, 170, 40],
+            "concave" => [40, 80, 230],
+            _ => [250, 140, 0],
+        };
+        let len = ((line[1][0] - line[0][0]).hypot(line[1][1] - line[0][1]) * SCALE * 2.0).ceil();
+        for k in 0..=len as usize {
+            let t = k as f64 / len.max(1.0);
+            let p = [
+                line[0][0] + t * (line[1][0] - line[0][0]),
+                line[0][1] + t * (line[1][1] - line[0][1]),
+            ];
+            put(&mut img, p[0], p[1], c);
+        }
+    }
+    for j in &l.junctions {
+        for dy in -3i32..=3 {
+            for dx in -3i32..=3 {
+                let edge = dx.abs() == 3 || dy.abs() == 3;
+                let c = if edge { [0, 0, 0] } else { [255, 230, 0] };
+                let (x, y) = (j[0] + f64::from(dx) / SCALE, j[1] + f64::from(dy) / SCALE);
+                put(&mut img, x, y, c);
+            }
+        }
+    }
+    img
+}
+
+/// `docs/wireframe_hawp_overlay.png`: the richest picture of a 12-scene HAWP export, drawn by
+/// the reader above; compared byte for byte (renderer-bound like the goldens, README "Golden
+/// images"); re-bless with `BLESS=1 cargo test --test export_dataset`.
+#[test]
+fn the_readme_overlay_is_what_the_reader_draws() {
+    if !renderer_available() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    ok(blockworld(&[
+        "generate",
+        "--count",
+        "12",
+        "--seed",
+        "7",
+        "--jobs",
+        "1",
+        "-o",
+        ds.to_str().unwrap(),
+    ]));
+    let out = tmp.path().join("hawp");
+    ok(export(&ds, "hawp", &out, &[]));
+    let set = read_hawp(&out);
+    let richest = set.iter().max_by_key(|l| l.lines.len()).unwrap();
+    let mut png = Vec::new();
+    overlay(richest)
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/wireframe_hawp_overlay.png");
+    if std::env::var_os("BLESS").is_some() {
+        std::fs::write(&docs, &png).unwrap();
+        eprintln!("wrote {} from {:?}", docs.display(), richest.picture);
+    }
+    let committed = std::fs::read(&docs).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e}; make it with BLESS=1 cargo test --test export_dataset",
+            docs.display()
+        )
+    });
+    assert!(
+        committed == png,
+        "{} differs from the reader's drawing; review and re-bless",
+        docs.display()
+    );
+}
