@@ -521,7 +521,7 @@ fn overlay(l: &Labelled) -> image::RgbImage {
         let v = gray.get_pixel(x / 2, y / 2).0[0];
         image::Rgb([v, v, v])
     });
-    let mut put = |img: &mut image::RgbImage, x: f64, y: f64, c: [u8; 3]| {
+    let put = |img: &mut image::RgbImage, x: f64, y: f64, c: [u8; 3]| {
         let (px, py) = ((x * SCALE).floor(), (y * SCALE).floor());
         if px >= 0.0 && py >= 0.0 && (px as u32) < img.width() && (py as u32) < img.height() {
             img.put_pixel(px as u32, py as u32, image::Rgb(c));

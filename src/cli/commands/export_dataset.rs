@@ -83,10 +83,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let entries = read_manifest(&args.dataset)?;
     prepare_output(&args)?;
     let bar = progress_bar(entries.len() as u64);
-    let mut resumed = 0;
+    let (mut resumed, mut new_images) = (0, 0);
     for (done, entry) in entries.iter().enumerate() {
-        if export_scene(&args, entry)? {
-            resumed += 1;
+        match export_scene(&args, entry)? {
+            Some(n) => new_images += n,
+            None => resumed += 1,
         }
         bar.tick_to(done as u64 + 1, entries.len() as u64);
     }
@@ -94,10 +95,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (images, lines) = assemble(&args, &entries)?;
     let secs = started.elapsed().as_secs_f64();
     println!(
-        "{} scenes ({resumed} kept from an earlier run): {images} images, {lines} lines in {:.2} s ({:.1} images/s) -> {}",
+        "{} scenes ({resumed} kept from an earlier run): {images} images, {lines} lines; {new_images} images exported in {:.2} s ({:.1} images/s) -> {}",
         entries.len(),
         secs,
-        images as f64 / secs.max(1e-9),
+        new_images as f64 / secs.max(1e-9),
         args.output.display()
     );
     Ok(())
@@ -155,9 +156,10 @@ fn prepare_output(args: &Args) -> anyhow::Result<()> {
     write_atomic(&path, text.as_bytes()).with_context(|| format!("writing {}", path.display()))
 }
 
-/// Exports one scene (its pictures, then its part file); `Ok(true)` when an earlier run had
-/// already done it. Every dataset file read is checked against the manifest.
-fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<bool> {
+/// Exports one scene (its pictures, then its part file); returns how many pictures it wrote, or
+/// `None` when an earlier run had already done it. Every dataset file read is checked against
+/// the manifest.
+fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usize>> {
     let part_path = args
         .output
         .join(PARTS_DIR)
@@ -172,7 +174,7 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<bool> {
         inputs.push((view, drawing, picture));
     }
     if part_path.exists() {
-        return Ok(true);
+        return Ok(None);
     }
     let format = args.format.format();
     let mut records = Vec::with_capacity(views.len());
@@ -209,10 +211,11 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<bool> {
             }),
         });
     }
+    let written = records.len();
     let part = json!({"split": split_name(split), "records": records});
     write_atomic(&part_path, part.to_string().as_bytes())
         .with_context(|| format!("writing {}", part_path.display()))?;
-    Ok(false)
+    Ok(Some(written))
 }
 
 /// The views of a scene: every `lines_<v>.json` in its manifest line that has a `view_<v>.png`.
