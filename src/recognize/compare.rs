@@ -13,7 +13,7 @@
 //! one at a time, each time the candidate whose redrawn views (step 6, [`super::verify`])
 //! explain the most of the observed drawings, until nothing improves.
 
-use super::catalog_match::{blocks_overlap, distinct_yaws_deg};
+use super::catalog_match::{blocks_overlap, distinct_yaws_deg, make_touching_flush};
 use super::verify::{compare_drawings, draw_hypothesis, ViewCheck};
 use super::ObservedView;
 use crate::drawing::LineDrawing;
@@ -27,6 +27,8 @@ pub struct PooledCandidate {
     pub block: Block,
     /// Indices of the views whose parallelograms proposed it.
     pub views: Vec<usize>,
+    /// How many parallelograms proposed it; `block.center_mm` is their mean.
+    pub proposals: usize,
 }
 
 /// The yaw of a block in degrees (0 for a quaternion; candidates carry yaws).
@@ -37,8 +39,9 @@ pub fn yaw_deg(b: &Block) -> f64 {
     }
 }
 
-/// Pools per-view proposals: same type, same yaw and centres within `tol_mm` are one candidate.
-/// Order: first proposal first (deterministic).
+/// Pools per-view proposals: same type, same yaw and centres within `tol_mm` (of the running
+/// mean) are one candidate, placed at the mean of its proposals. Order: first proposal first
+/// (deterministic).
 pub fn pool_candidates(per_view: &[Vec<Block>], tol_mm: f64) -> Vec<PooledCandidate> {
     let mut pool: Vec<PooledCandidate> = Vec::new();
     for (v, blocks) in per_view.iter().enumerate() {
@@ -49,17 +52,29 @@ pub fn pool_candidates(per_view: &[Vec<Block>], tol_mm: f64) -> Vec<PooledCandid
                     && c.block.center_mm.distance(b.center_mm) <= tol_mm
             });
             match same {
-                Some(c) if !c.views.contains(&v) => c.views.push(v),
-                Some(_) => {}
+                Some(c) => {
+                    // The running mean of every proposal's centre.
+                    c.proposals += 1;
+                    let n = c.proposals as f64;
+                    c.block.center_mm += (b.center_mm - c.block.center_mm) / n;
+                    if !c.views.contains(&v) {
+                        c.views.push(v);
+                    }
+                }
                 None => pool.push(PooledCandidate {
                     block: *b,
                     views: vec![v],
+                    proposals: 1,
                 }),
             }
         }
     }
     pool
 }
+
+/// Faces closer than this are made flush before each redraw, mm (far below any catalog size,
+/// far above the measurement error of a vertex).
+pub const FLUSH_TOL_MM: f64 = 0.5;
 
 /// The state of the search: chosen blocks, their drawings, per-view checks.
 struct Hypothesis {
@@ -70,6 +85,7 @@ struct Hypothesis {
 
 impl Hypothesis {
     fn new(blocks: Vec<Block>, views: &[ObservedView], tol_px: f64) -> Hypothesis {
+        let blocks = make_touching_flush(&blocks, FLUSH_TOL_MM);
         let drawn: Vec<LineDrawing> = views
             .iter()
             .map(|v| draw_hypothesis(&blocks, &v.camera))

@@ -94,7 +94,7 @@ pub fn overhanging_blocks(blocks: &[Block], tol_mm: f64, step_mm: f64) -> Vec<us
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{CameraOptions, CornerView};
+    use crate::recognize::{CameraOptions, CornerView};
     use crate::render::truth::visible_line_drawing;
     use crate::scene::Scene;
 

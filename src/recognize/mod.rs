@@ -4,7 +4,8 @@
 //! 1. [`select_vertices`]: the "Y" and collinear "T" vertices, sorted by picture y (Figure 5.1).
 //! 2. [`ParallelogramSearch`]: from each, along the directions its six-bit code allows, close
 //!    the top face (Figure 4.5); vertex, height and side lengths in px, converted to mm through
-//!    the camera's rays ([`point_at_height_mm`], [`drop_below_mm`]).
+//!    the camera's rays ([`measure_parallelogram_mm`], [`point_at_height_mm`],
+//!    [`drop_below_mm`]).
 //! 3. [`catalog_candidates`]: the catalog blocks (yaw 0 or 90) those measurements fit, at every
 //!    layer height (sums of catalog heights, bottom layer at y = 0); [`classify_layers`] and
 //!    [`touching_pairs`] for the answer.
@@ -20,27 +21,29 @@ mod catalog_match;
 mod compare;
 mod constraints;
 mod parallelogram;
-mod regularize;
 mod select;
 mod verify;
 
-/// The camera type every recognizer file uses (the one import of it in this stage).
+/// The camera types this stage and `csg` use (the one import of them, so the camera's move to
+/// its own module is a one-line change).
 pub(crate) use crate::camera::Camera;
+#[cfg(test)]
+pub(crate) use crate::camera::{CameraOptions, CornerView, Projection};
 
 pub use catalog_match::{
     blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
-    level_heights_mm, touching_pairs, Layer, MatchTolerances,
+    level_heights_mm, make_touching_flush, measure_parallelogram_mm, touching_pairs, Layer,
+    MatchTolerances, ParallelogramMm,
 };
 pub use compare::{
     catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates,
-    yaw_deg, PooledCandidate, SearchLimits,
+    yaw_deg, PooledCandidate, SearchLimits, FLUSH_TOL_MM,
 };
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
 pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
-pub use regularize::{snap_to_shared_planes, SHARED_PLANE_TOL_MM};
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
 pub use verify::{
     check_hypothesis, compare_drawings, distance_to_segment_px, draw_hypothesis, ViewCheck,
@@ -283,7 +286,7 @@ fn propose(
                 continue;
             };
             ev.parallelograms += 1;
-            ev.closed_parallelograms += usize::from(p.closed_px.is_some());
+            ev.closed_parallelograms += usize::from(p.closed.is_some());
             out.extend(catalog_candidates(
                 &p,
                 &view.drawing,
@@ -297,6 +300,48 @@ fn propose(
     (out, ev)
 }
 
+/// Codes, junctions and unclassified lines from each drawing's own geometry
+/// (`LineDrawing::finalize`), so the selection does not depend on which front end drew it.
+fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
+    views
+        .iter()
+        .map(|v| {
+            let mut drawing = v.drawing.clone();
+            drawing.finalize();
+            ObservedView {
+                drawing,
+                camera: v.camera,
+            }
+        })
+        .collect()
+}
+
+/// Blocks closer than this in mm are one candidate, share a layer, touch, or rest on each
+/// other (far below any catalog size, far above the measurement error).
+pub const SAME_PLACE_TOL_MM: f64 = 0.5;
+
+/// Step 6 and Chapter VII on the chosen blocks: why to decline, if at all.
+fn final_checks(
+    blocks: &[Block],
+    checks: &[ViewCheck],
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+) -> Option<Decline> {
+    if let Some((v, c)) = views.iter().zip(checks).find(|(_, c)| !c.is_explained()) {
+        let view = v.camera.view.name().to_string();
+        return Some(Decline::Unexplained { view, check: *c });
+    }
+    if let Some(detail) = equally_good_alternative(blocks, views, opts.tol_px) {
+        return Some(Decline::Ambiguous { detail });
+    }
+    if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
+        return Some(Decline::UpperLayerLarger { block });
+    }
+    floating_blocks(blocks, SAME_PLACE_TOL_MM)
+        .first()
+        .map(|&block| Decline::HiddenSupport { block })
+}
+
 /// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
 /// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status
 /// `Unsupported`; an `Err` means the input itself is malformed.
@@ -308,6 +353,7 @@ pub fn recognize(
         return Err(RecognizeError::NoViews);
     }
     views.iter().try_for_each(check_drawing)?;
+    let views = &normalize_views(views)[..];
     let mut evidence = Evidence::default();
     if let Some(d) = check_directions(views, opts) {
         return Ok(Recognition::declined(d, evidence));
@@ -319,8 +365,7 @@ pub fn recognize(
         per_view.push(blocks);
         evidence.views.push(ev);
     }
-    let per_view = snap_to_shared_planes(&per_view, SHARED_PLANE_TOL_MM);
-    let pool = pool_candidates(&per_view, 0.5);
+    let pool = pool_candidates(&per_view, SAME_PLACE_TOL_MM);
     evidence.pooled_candidates = pool.len();
     let limits = SearchLimits {
         tol_px: opts.tol_px,
@@ -334,37 +379,100 @@ pub fn recognize(
         ev.check = *c;
     }
     evidence.hypothesis = blocks.clone();
-    if let Some((v, c)) = views.iter().zip(&checks).find(|(_, c)| !c.is_explained()) {
-        let view = v.camera.view.name().to_string();
-        return Ok(Recognition::declined(
-            Decline::Unexplained { view, check: *c },
-            evidence,
-        ));
-    }
-    if let Some(detail) = equally_good_alternative(&blocks, views, opts.tol_px) {
-        return Ok(Recognition::declined(
-            Decline::Ambiguous { detail },
-            evidence,
-        ));
-    }
-    if let Some(&block) = overhanging_blocks(&blocks, 0.5, 1.0).first() {
-        return Ok(Recognition::declined(
-            Decline::UpperLayerLarger { block },
-            evidence,
-        ));
-    }
-    if let Some(&block) = floating_blocks(&blocks, 0.5).first() {
-        return Ok(Recognition::declined(
-            Decline::HiddenSupport { block },
-            evidence,
-        ));
+    if let Some(d) = final_checks(&blocks, &checks, views, opts) {
+        return Ok(Recognition::declined(d, evidence));
     }
     Ok(Recognition {
-        layers: classify_layers(&blocks, 0.5),
-        touching: touching_pairs(&blocks, 0.5),
+        layers: classify_layers(&blocks, SAME_PLACE_TOL_MM),
+        touching: touching_pairs(&blocks, SAME_PLACE_TOL_MM),
         blocks,
         status: ReconStatus::Ok,
         reason: None,
         evidence,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::DVec3;
+
+    fn views_of(blocks: &[Block], which: &[CornerView]) -> Vec<ObservedView> {
+        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        which
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &CameraOptions::default());
+                let drawing = draw_hypothesis(blocks, &camera);
+                ObservedView { drawing, camera }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_two_layer_stack_is_recognized_from_two_opposite_views() {
+        let truth = vec![
+            Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+        ];
+        let views = views_of(&truth, &[CornerView::Ne, CornerView::Sw]);
+        let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+        assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
+        assert_eq!(r.blocks.len(), 2);
+        for t in &truth {
+            assert!(r
+                .blocks
+                .iter()
+                .any(|b| b.block_type.id == t.block_type.id
+                    && b.center_mm.distance(t.center_mm) < 1e-6));
+        }
+        assert_eq!(r.layers.len(), 2);
+        assert_eq!(r.touching, vec![[0, 1]]);
+    }
+
+    #[test]
+    fn a_perspective_view_pair_is_recognized_too() {
+        let truth = vec![Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 90.0)];
+        let pts: Vec<DVec3> = truth[0].world_vertices();
+        let opts = CameraOptions {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            ..CameraOptions::default()
+        };
+        let views: Vec<ObservedView> = [CornerView::Ne, CornerView::Sw]
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &opts);
+                ObservedView {
+                    drawing: draw_hypothesis(&truth, &camera),
+                    camera,
+                }
+            })
+            .collect();
+        let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+        assert_eq!(r.status, ReconStatus::Ok, "{:?}", r.reason);
+        assert!(r.blocks[0].center_mm.distance(truth[0].center_mm) < 0.05);
+    }
+
+    #[test]
+    fn bad_input_is_an_error_and_a_turned_block_is_declined_by_name() {
+        assert_eq!(
+            recognize(&[], &RecognizeOptions::default()),
+            Err(RecognizeError::NoViews)
+        );
+        let cube = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let mut views = views_of(&cube, &[CornerView::Ne]);
+        views[0].drawing.lines.push([0, 99]);
+        assert!(matches!(
+            recognize(&views, &RecognizeOptions::default()),
+            Err(RecognizeError::BadDrawing { .. })
+        ));
+        let turned = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 30.0)];
+        let r = recognize(
+            &views_of(&turned, &[CornerView::Ne]),
+            &RecognizeOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(r.status, ReconStatus::Unsupported);
+        assert!(r.reason.unwrap().contains("not in one direction"));
+    }
 }

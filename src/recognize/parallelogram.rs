@@ -99,10 +99,10 @@ pub struct Parallelogram {
     /// followed through "T" points), nearest first; for a side face the second side is the
     /// vertical edge.
     pub sides: [Vec<ChainStop>; 2],
-    /// The first side's and second side's lengths of the smallest closed parallelogram, px;
+    /// The far ends of the first and second side of the smallest closed parallelogram;
     /// `None` when no stop pair closes (a side occluded: rule (1) of Chapter V then takes the
     /// longest length over the views).
-    pub closed_px: Option<[f64; 2]>,
+    pub closed: Option<[ChainStop; 2]>,
     /// Length of the vertex's "down" line (the block's visible vertical edge), px, when its
     /// code has the "down" bit (Chapter IV: "the height of a block can be obtained ...").
     pub down_px: Option<f64>,
@@ -165,14 +165,15 @@ impl<'a> ParallelogramSearch<'a> {
                 point: cur,
                 length_px: origin.distance(self.at(cur)),
             });
-            let heading = self.at(cur) - self.at(prev);
+            let heading = self.at(cur) - origin;
             let next = self.neighbours[cur].iter().copied().find(|&n| {
-                n != prev
-                    && (self.at(n) - self.at(cur))
-                        .angle_to(heading)
-                        .abs()
-                        .to_degrees()
-                        < COLLINEAR_TOL_DEG
+                let step = self.at(n) - self.at(cur);
+                // Collinear within COLLINEAR_TOL_DEG, or within the point tolerance.
+                let tol_deg = (self.tol_px / step.length().max(1e-9))
+                    .atan()
+                    .to_degrees()
+                    .max(COLLINEAR_TOL_DEG);
+                n != prev && step.angle_to(heading).abs().to_degrees() < tol_deg
             });
             match next {
                 Some(n) => (prev, cur) = (cur, n),
@@ -190,7 +191,7 @@ impl<'a> ParallelogramSearch<'a> {
             return None;
         }
         let sides = [self.follow(v.index, d1), self.follow(v.index, d2)];
-        let closed_px = self.close(&sides, d1, d2);
+        let closed = self.close(&sides, d1, d2);
         let down = v
             .code
             .has(Direction::Down)
@@ -200,14 +201,19 @@ impl<'a> ParallelogramSearch<'a> {
             vertex: *v,
             face,
             sides,
-            closed_px,
+            closed,
             down_px: down.map(|s| s.length_px),
             down_end: down.map(|s| s.point),
         })
     }
 
     /// The smallest stop pair whose far sides meet at a common point (the fourth corner).
-    fn close(&self, sides: &[Vec<ChainStop>; 2], d1: Direction, d2: Direction) -> Option<[f64; 2]> {
+    fn close(
+        &self,
+        sides: &[Vec<ChainStop>; 2],
+        d1: Direction,
+        d2: Direction,
+    ) -> Option<[ChainStop; 2]> {
         for a in &sides[0] {
             let from_a = self.follow(a.point, d2);
             for b in &sides[1] {
@@ -218,7 +224,7 @@ impl<'a> ParallelogramSearch<'a> {
                         .any(|y| self.at(x.point).distance(self.at(y.point)) <= self.tol_px)
                 });
                 if meets {
-                    return Some([a.length_px, b.length_px]);
+                    return Some([*a, *b]);
                 }
             }
         }
@@ -272,7 +278,7 @@ pub fn horizontal_axis_for(camera: &Camera, at_mm: DVec3, picture_dir: DVec2) ->
 mod tests {
     use super::super::select::{select_vertices, tests::cube_drawing};
     use super::*;
-    use crate::camera::{CameraOptions, CornerView};
+    use crate::recognize::{CameraOptions, CornerView};
     use crate::render::truth::visible_line_drawing;
     use crate::scene::{Block, Scene};
 
@@ -285,7 +291,7 @@ mod tests {
             .find(|v| v.index == 6)
             .unwrap();
         let p = search.search(&fork, Face::Top(TopCorner::Near)).unwrap();
-        let [a, b] = p.closed_px.unwrap();
+        let [a, b] = p.closed.unwrap().map(|s| s.length_px);
         assert!(
             (a - 10.0).abs() < 1e-9 && (b - 10.0).abs() < 1e-9,
             "{a} {b}"
@@ -327,8 +333,8 @@ mod tests {
     fn rays_give_millimetres_exactly_in_both_projections() {
         let corner = DVec3::new(15.0, 15.0, 0.0);
         for projection in [
-            crate::camera::Projection::Orthographic,
-            crate::camera::Projection::Perspective { fov_y_deg: 30.0 },
+            crate::recognize::Projection::Orthographic,
+            crate::recognize::Projection::Perspective { fov_y_deg: 30.0 },
         ] {
             let opts = CameraOptions {
                 projection,

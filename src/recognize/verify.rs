@@ -55,13 +55,18 @@ pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 fn line_explained(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol_px: f64) -> bool {
     let (a, b) = (from.points[line[0]], from.points[line[1]]);
     let dir = b - a;
+    // Parallel within 3 degrees, or within what the point tolerance allows on a short line.
+    let max_angle_deg = (2.0 * tol_px / dir.length().max(1e-9))
+        .atan()
+        .to_degrees()
+        .max(3.0);
     let samples = [a, (a + b) / 2.0, b, a.lerp(b, 0.25), a.lerp(b, 0.75)];
     samples.iter().all(|&s| {
         to.lines.iter().any(|&[i, j]| {
             let (c, d) = (to.points[i], to.points[j]);
             let parallel = (d - c).angle_to(dir).abs().to_degrees();
             let parallel = parallel.min(180.0 - parallel);
-            parallel < 3.0 && distance_to_segment_px(s, c, d) <= tol_px
+            parallel <= max_angle_deg && distance_to_segment_px(s, c, d) <= tol_px
         })
     })
 }
@@ -104,8 +109,8 @@ pub fn check_hypothesis(blocks: &[Block], views: &[ObservedView], tol_px: f64) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{CameraOptions, CornerView};
     use crate::geom::DVec3;
+    use crate::recognize::{CameraOptions, CornerView};
 
     fn two_blocks() -> Vec<Block> {
         vec![

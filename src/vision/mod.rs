@@ -65,6 +65,37 @@ pub struct Detection {
     pub lines: Vec<FittedLine>,
     /// Vertices, the lines between them, six-bit codes and junction classes.
     pub drawing: LineDrawing,
+    /// Milliseconds spent in each step, measured where the step runs.
+    pub timings: VisionTimings,
+}
+
+/// The front end's stage counters: milliseconds per step of one picture, measured inside
+/// [`detect_with_directions`] so benchmarks report the stage's own figures.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct VisionTimings {
+    /// Sobel magnitude (eq. 2.1).
+    pub sobel_ms: f64,
+    /// 3x3 smoothing (Chapter VI).
+    pub smooth_ms: f64,
+    /// Threshold (Chapter VI: 80).
+    pub threshold_ms: f64,
+    /// Line finding, least-squares fits and their refinement.
+    pub lines_ms: f64,
+    /// Vertices, six-bit codes and junction classes.
+    pub vertices_ms: f64,
+}
+
+impl VisionTimings {
+    /// The five steps, in order.
+    pub fn steps_ms(&self) -> [f64; 5] {
+        [
+            self.sobel_ms,
+            self.smooth_ms,
+            self.threshold_ms,
+            self.lines_ms,
+            self.vertices_ms,
+        ]
+    }
 }
 
 /// Checks a picture against its camera: same size, not larger than [`MAX_PICTURE_SIDE_PX`].
@@ -115,14 +146,29 @@ pub fn detect_with_directions(
     directions: &[(EdgeAxis, EdgeDirection)],
     opts: &VisionOptions,
 ) -> Detection {
-    let (_, edges) = detect_edges(image, &opts.edges);
+    let mut clock = std::time::Instant::now();
+    let mut lap = || {
+        let ms = clock.elapsed().as_secs_f64() * 1e3;
+        clock = std::time::Instant::now();
+        ms
+    };
+    let mut timings = VisionTimings::default();
+    let magnitude = sobel_magnitude(image);
+    timings.sobel_ms = lap();
+    let smoothed = smooth_3x3(&magnitude, opts.edges.window);
+    timings.smooth_ms = lap();
+    let edges = threshold(&smoothed, opts.edges.threshold);
+    timings.threshold_ms = lap();
     let lines = fit_lines(&edges, directions, &opts.lines);
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
+    timings.lines_ms = lap();
     let drawing = find_vertices(&lines, &opts.vertices);
+    timings.vertices_ms = lap();
     Detection {
         edges,
         lines,
         drawing,
+        timings,
     }
 }
 

@@ -11,14 +11,12 @@ use blockworld::camera::{Camera, CornerView};
 use blockworld::drawing::LineDrawing;
 use blockworld::render::{Backend, RenderOptions, Renderer};
 use blockworld::vision::{
-    edge_directions, find_vertices, fit_lines, line_angle_errors_deg,
-    match_vertices_with_tolerances, refine_lines_on_seams, smooth_3x3, sobel_magnitude, threshold,
+    detect_with_directions, edge_directions, line_angle_errors_deg, match_vertices_with_tolerances,
     MatchTolerances, VisionOptions,
 };
 use image::GrayImage;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Options of `blockworld bench vision`.
 #[derive(Debug, clap::Args)]
@@ -164,7 +162,7 @@ fn print_row(name: &str, t: &Tally) {
     );
 }
 
-/// Runs the five steps, timing each (fastest of `repeat` runs).
+/// Runs the front end `repeat` times; per step the fastest of the stage's own counters.
 fn timed_steps(
     s: &Sample,
     opts: &VisionOptions,
@@ -173,28 +171,12 @@ fn timed_steps(
     let mut best = [f64::INFINITY; 5];
     let mut out = None;
     let dirs = edge_directions(&s.camera, &blockworld::drawing::EdgeAxis::BLOCK_AXES);
-    for _ in 0..repeat {
-        let mut ms = [0.0; 5];
-        let mut clock = Instant::now();
-        let mut lap = |i: usize, ms: &mut [f64; 5]| {
-            ms[i] = clock.elapsed().as_secs_f64() * 1e3;
-            clock = Instant::now();
-        };
-        let mag = sobel_magnitude(&s.gray);
-        lap(0, &mut ms);
-        let smoothed = smooth_3x3(&mag, opts.edges.window);
-        lap(1, &mut ms);
-        let edges = threshold(&smoothed, opts.edges.threshold);
-        lap(2, &mut ms);
-        let lines = fit_lines(&edges, &dirs, &opts.lines);
-        let lines = refine_lines_on_seams(&s.gray, &lines, &opts.lines);
-        lap(3, &mut ms);
-        let drawing = find_vertices(&lines, &opts.vertices);
-        lap(4, &mut ms);
-        for (b, m) in best.iter_mut().zip(ms) {
+    for _ in 0..repeat.max(1) {
+        let det = detect_with_directions(&s.gray, &dirs, opts);
+        for (b, m) in best.iter_mut().zip(det.timings.steps_ms()) {
             *b = b.min(m);
         }
-        out = Some((drawing, lines));
+        out = Some((det.drawing, det.lines));
     }
     let (d, l) = out.unwrap_or_default();
     (d, l, best)
