@@ -35,7 +35,8 @@ pub enum FormatArg {
 }
 
 impl FormatArg {
-    fn format(self) -> WireframeFormat {
+    /// The library's format.
+    pub fn format(self) -> WireframeFormat {
         match self {
             FormatArg::Hawp => WireframeFormat::Hawp,
             FormatArg::Lcnn => WireframeFormat::Lcnn,
@@ -71,8 +72,42 @@ const PARTS_DIR: &str = ".parts";
 /// The options stamp of an export folder.
 const STAMP_FILE: &str = "export.json";
 
+/// What an export did.
+#[derive(Debug, Clone, Copy)]
+pub struct ExportSummary {
+    /// Scenes in the dataset.
+    pub scenes: usize,
+    /// Scenes an earlier run had finished.
+    pub resumed: usize,
+    /// Pictures in the export.
+    pub images: usize,
+    /// Pictures written by this run.
+    pub new_images: usize,
+    /// Lines in the export.
+    pub lines: usize,
+    /// Wall time of this run, s.
+    pub wall_s: f64,
+}
+
 /// Runs `blockworld export-dataset`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let s = export(&args)?;
+    println!(
+        "{} scenes ({} kept from an earlier run): {} images, {} lines; {} images exported in {:.2} s ({:.1} images/s) -> {}",
+        s.scenes,
+        s.resumed,
+        s.images,
+        s.lines,
+        s.new_images,
+        s.wall_s,
+        s.new_images as f64 / s.wall_s.max(1e-9),
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// Exports the dataset (module doc) and says what it did.
+pub fn export(args: &Args) -> anyhow::Result<ExportSummary> {
     if !(0.0..=1.0).contains(&args.split) {
         bail!(
             "--split {} must lie in 0..=1 (the training fraction)",
@@ -81,27 +116,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let started = Instant::now();
     let entries = read_manifest(&args.dataset)?;
-    prepare_output(&args)?;
+    prepare_output(args)?;
     let bar = progress_bar(entries.len() as u64);
     let (mut resumed, mut new_images) = (0, 0);
     for (done, entry) in entries.iter().enumerate() {
-        match export_scene(&args, entry)? {
+        match export_scene(args, entry)? {
             Some(n) => new_images += n,
             None => resumed += 1,
         }
         bar.tick_to(done as u64 + 1, entries.len() as u64);
     }
     bar.finish();
-    let (images, lines) = assemble(&args, &entries)?;
-    let secs = started.elapsed().as_secs_f64();
-    println!(
-        "{} scenes ({resumed} kept from an earlier run): {images} images, {lines} lines; {new_images} images exported in {:.2} s ({:.1} images/s) -> {}",
-        entries.len(),
-        secs,
-        new_images as f64 / secs.max(1e-9),
-        args.output.display()
-    );
-    Ok(())
+    let (images, lines) = assemble(args, &entries)?;
+    Ok(ExportSummary {
+        scenes: entries.len(),
+        resumed,
+        images,
+        new_images,
+        lines,
+        wall_s: started.elapsed().as_secs_f64(),
+    })
 }
 
 /// Reads `DATASET/manifest.jsonl`.
