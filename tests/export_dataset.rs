@@ -486,8 +486,13 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
     std::fs::remove_file(out.join(".parts/s000001.json")).unwrap();
     std::fs::remove_file(out.join("images/s000001_se.png")).unwrap();
     std::fs::remove_file(out.join("train.json")).unwrap();
+    // And a picture of a finished scene damaged: its scene is redone too.
+    let damaged = out.join("images/s000002_ne.png");
+    let picture = std::fs::read(&damaged).unwrap();
+    std::fs::write(&damaged, &picture[..picture.len() / 2]).unwrap();
     let stdout = ok(export(&ds, "hawp", &out, &[]));
-    assert!(stdout.contains("(2 kept from an earlier run)"), "{stdout}");
+    assert!(stdout.contains("(1 kept from an earlier run)"), "{stdout}");
+    assert_eq!(std::fs::read(&damaged).unwrap(), picture);
     assert_eq!(std::fs::read(out.join("train.json")).unwrap(), train);
     assert_eq!(std::fs::read(out.join("test.json")).unwrap(), test);
     assert!(out.join("images/s000001_se.png").exists());

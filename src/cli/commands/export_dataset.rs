@@ -207,11 +207,12 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         let picture = read_checked(&scene_dir, entry, &format!("view_{view}.png"))?;
         inputs.push((view, drawing, picture));
     }
-    if part_path.exists() {
+    if part_is_complete(&part_path, &args.output) {
         return Ok(None);
     }
     let format = args.format.format();
     let mut records = Vec::with_capacity(views.len());
+    let mut images = serde_json::Map::new();
     for (view, drawing_bytes, picture_bytes) in inputs {
         let lines_path = scene_dir.join(format!("lines_{view}.json"));
         let text = String::from_utf8(drawing_bytes)
@@ -233,6 +234,8 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
             encode_png_gray8(&decoded.gray)?
         };
         let image_path = args.output.join(format.image_dir(split)).join(&filename);
+        let relative = format!("{}/{filename}", format.image_dir(split));
+        images.insert(relative, json!(sha256_hex(&png)));
         write_atomic(&image_path, &png)
             .with_context(|| format!("writing {}", image_path.display()))?;
         records.push(match (format, split) {
@@ -246,10 +249,28 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         });
     }
     let written = records.len();
-    let part = json!({"split": split_name(split), "records": records});
+    let part = json!({"split": split_name(split), "images": images, "records": records});
     write_atomic(&part_path, part.to_string().as_bytes())
         .with_context(|| format!("writing {}", part_path.display()))?;
     Ok(Some(written))
+}
+
+/// Whether an earlier run finished the scene: its part file reads and every picture it lists
+/// is there with the sha256 it lists (like `generate`'s resume, README "Settling and datasets").
+fn part_is_complete(part_path: &Path, output: &Path) -> bool {
+    let Ok(text) = std::fs::read_to_string(part_path) else {
+        return false;
+    };
+    let Ok(part) = serde_json::from_str::<Value>(&text) else {
+        return false;
+    };
+    let Some(images) = part["images"].as_object() else {
+        return false;
+    };
+    images.iter().all(|(relative, sha)| {
+        std::fs::read(output.join(relative))
+            .is_ok_and(|bytes| sha.as_str() == Some(sha256_hex(&bytes).as_str()))
+    })
 }
 
 /// The views of a scene: every `lines_<v>.json` in its manifest line that has a `view_<v>.png`.
