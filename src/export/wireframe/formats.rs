@@ -9,7 +9,8 @@
 //!
 //! Extra keys ride along (README "Wireframe datasets"): `junction_type`, `six_bit_code` (per
 //! junction) and `line_kind` (per line); they describe the picture as rendered and are invalid
-//! after flip or rotation augmentation (a flip mirrors arrows' and codes' directions).
+//! after flip or rotation augmentation (the six-bit code of Ch. IV is tied to the picture's
+//! axes: a left-right flip swaps its left and right bits).
 
 use super::{Split, Wireframe};
 use serde_json::{json, Value};
