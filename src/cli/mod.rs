@@ -47,6 +47,8 @@ pub enum Command {
     Label(commands::label::Args),
     /// Kanade's model against the modified model on the same drawings (thesis Figs. 6.17, 6.18).
     Compare(commands::compare::Args),
+    /// Export a dataset's exact line drawings for wireframe parsers (HAWP, L-CNN, LETR).
+    ExportDataset(commands::export_dataset::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
     /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
@@ -85,6 +87,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(a) => commands::export::run(a),
         Command::Label(a) => commands::label::run(a),
         Command::Compare(a) => commands::compare::run(a),
+        Command::ExportDataset(a) => commands::export_dataset::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::View(a) => commands::view::run(a),
     }

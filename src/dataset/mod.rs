@@ -17,7 +17,7 @@ mod writer;
 pub use error::DatasetError;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
 pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpec, MAX_ATTEMPTS};
-pub use manifest::{ManifestEntry, MANIFEST_NAME};
+pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 pub use shard::{Shard, ShardError};
 pub use writer::{
     generate_dataset, merge_shards, DatasetOptions, GenerateSummary, MergeSummary,

@@ -14,6 +14,7 @@
 mod mesh;
 mod overlay;
 mod thesis;
+pub mod wireframe;
 
 pub use overlay::{reconstruction_with_truth_to_glb, reconstruction_with_truth_to_gltf};
 

@@ -5,6 +5,7 @@ pub mod compare;
 pub mod demo;
 pub mod edges;
 pub mod export;
+pub mod export_dataset;
 pub mod generate;
 pub mod label;
 pub mod merge;

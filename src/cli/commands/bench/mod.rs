@@ -2,6 +2,7 @@
 //! timed unit tests).
 
 mod accuracy;
+mod export_dataset;
 mod generate;
 pub mod machine;
 mod recognize;
@@ -27,6 +28,8 @@ enum Which {
     Vision(vision::Args),
     /// ms per scene of the recognizer alone and of vision plus recognizer, and its memory.
     Recognize(recognize::Args),
+    /// images/s of the wireframe export (HAWP, L-CNN, LETR) of a dataset.
+    ExportDataset(export_dataset::Args),
 }
 
 /// Runs one benchmark.
@@ -37,5 +40,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Which::Accuracy(a) => accuracy::run(a),
         Which::Vision(a) => vision::run(a),
         Which::Recognize(a) => recognize::run(a),
+        Which::ExportDataset(a) => export_dataset::run(a),
     }
 }
