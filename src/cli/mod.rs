@@ -1,6 +1,8 @@
 //! The command line (clap derive): parse, then run one subcommand. The only module that reads
 //! argv or the environment (`SLURM_ARRAY_TASK_ID`, `JOB_COMPLETION_INDEX`).
 
+#[macro_use]
+pub mod stdout;
 mod commands;
 pub mod files;
 pub mod view_args;
@@ -51,6 +53,7 @@ pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(err) if stdout::is_stdout_closed(&err) => std::process::ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err}");
             for cause in err.chain().skip(1) {

@@ -63,12 +63,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         blockworld::io::write_atomic(m, &bytes)
             .with_context(|| format!("writing {}", m.display()))?;
     }
-    println!(
+    outln!(
         "{}: {count} edge pixels (threshold {}) -> {}",
         args.view.display(),
         args.threshold,
         out.display()
-    );
+    )?;
     Ok(())
 }
 

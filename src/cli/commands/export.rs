@@ -50,13 +50,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Form::Glb => {
             let glb = scene_to_glb(&scene).with_context(context)?;
             write_atomic(out, &glb).with_context(|| format!("writing {}", out.display()))?;
-            println!(
+            outln!(
                 "{}: {} blocks -> {} ({} bytes)",
                 args.scene.display(),
                 scene.blocks.len(),
                 out.display(),
                 glb.len()
-            );
+            )?;
         }
         Form::GltfWithBin => {
             let bin_path = out.with_extension("bin");
@@ -69,7 +69,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .with_context(|| format!("writing {}", bin_path.display()))?;
             write_atomic(out, text.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
-            println!(
+            outln!(
                 "{}: {} blocks -> {} + {} ({} + {} bytes)",
                 args.scene.display(),
                 scene.blocks.len(),
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 bin_path.display(),
                 text.len(),
                 bin.len()
-            );
+            )?;
         }
     }
     Ok(())

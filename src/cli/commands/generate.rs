@@ -158,8 +158,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.output.display()
         )
     })?;
-    report(&summary, &opts, started.elapsed().as_secs_f64());
-    Ok(())
+    report(&summary, &opts, started.elapsed().as_secs_f64())
 }
 
 /// Runs `f` with a progress callback: an indicatif bar on a terminal, plain log lines (about
@@ -195,13 +194,13 @@ pub fn with_progress<T>(total: u64, f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) -
     }
 }
 
-fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) {
+fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) -> anyhow::Result<()> {
     let shard = if opts.shard.is_whole() {
         String::new()
     } else {
         format!(" (shard {}/{})", opts.shard.index, opts.shard.count)
     };
-    println!(
+    outln!(
         "{} scenes{shard}: {} generated, {} kept from an earlier run; redrew {} unstable and {} unplaceable draws; {:.2} s ({:.1} scenes/s); manifest {}",
         s.entries.len(),
         s.generated,
@@ -211,5 +210,5 @@ fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) {
         secs,
         s.generated as f64 / secs.max(1e-9),
         s.manifest.display()
-    );
+    )
 }

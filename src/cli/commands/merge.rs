@@ -16,11 +16,11 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let s = merge_shards(&args.dataset)
         .with_context(|| format!("merging {}", args.dataset.display()))?;
-    println!(
+    outln!(
         "merged {} shards, {} scenes, every file's sha256 checked: {}",
         s.shards,
         s.scenes,
         s.manifest.display()
-    );
+    )?;
     Ok(())
 }

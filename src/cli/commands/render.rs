@@ -43,7 +43,7 @@ pub fn write_and_list(out: &Path, views: &[RenderedView]) -> anyhow::Result<()> 
     let written = write_rendered_views(out, views)
         .with_context(|| format!("writing views into {}", out.display()))?;
     for f in &written {
-        println!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256);
+        outln!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256)?;
     }
     Ok(())
 }

@@ -55,7 +55,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let load = std::fs::read_to_string("/proc/loadavg")
         .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into());
-    println!(
+    outln!(
         "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads, load average {load}{}",
         s.generated,
         opts.views.len(),
@@ -63,27 +63,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .as_ref()
             .map(|r| format!(", {}", r.adapter_info()))
             .unwrap_or_default()
-    );
-    println!("| stage | ms per scene (one thread) | share |");
-    println!("|---|---|---|");
+    )?;
+    outln!("| stage | ms per scene (one thread) | share |")?;
+    outln!("|---|---|---|")?;
     for (name, secs) in [
         ("draw + settle", t.settle_s),
         ("render", t.render_s),
         ("write (encode, hash, rename)", t.write_s),
     ] {
-        println!(
+        outln!(
             "| {name} | {:.3} | {:.1}% |",
             secs * 1e3 / n,
             100.0 * secs / busy
-        );
+        )?;
     }
     let blocks: usize = s.entries.iter().map(|e| e.blocks).sum();
-    println!(
+    outln!(
         "wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
         wall_s,
         s.generated as f64 / wall_s.max(1e-12),
         blocks as f64 / n,
         s.unstable_draws
-    );
+    )?;
     Ok(())
 }
