@@ -77,3 +77,79 @@ fn closed_stdout_pipe_ends_quietly() {
         assert!(err.is_empty(), "{err}");
     }
 }
+
+/// Regression: without `XDG_RUNTIME_DIR` (batch jobs, cron, containers) a Vulkan render that
+/// succeeded printed two `error: XDG_RUNTIME_DIR is invalid` lines.
+#[test]
+fn headless_render_prints_no_spurious_errors() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(["render", &scene("single_cube.json"), "--views", "ne", "-o"])
+        .arg(dir.path())
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "", "nothing on stderr on success");
+}
+
+/// Regression: an OS error was printed twice (`X: Is a directory`, then `caused by: Is a
+/// directory`).
+#[test]
+fn os_errors_are_printed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_string_lossy().into_owned();
+    let err = fails_with_2(&blockworld(&["score", &d, &d]));
+    assert_eq!(err.matches("Is a directory").count(), 1, "{err}");
+    assert!(err.contains(&d), "{err}");
+}
+
+/// Regression: a UTF-8 byte-order mark gave "expected value at line 1 column 1" and invalid
+/// UTF-8 no position; name the BOM, give the byte offset.
+#[test]
+fn bom_and_invalid_utf8_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read(scene("two_layer.json")).unwrap();
+    let bom = write(dir.path(), "bom.json", &[b"\xEF\xBB\xBF".as_slice(), &text].concat());
+    let err = fails_with_2(&blockworld(&["export", bom.to_str().unwrap(), "-o", "x.glb"]));
+    assert!(err.contains("byte-order mark") && err.contains("bom.json"), "{err}");
+    let mut bad = text.clone();
+    bad[20] = 0xFF;
+    let bad = write(dir.path(), "bad.json", &bad);
+    let err = fails_with_2(&blockworld(&["export", bad.to_str().unwrap(), "-o", "x.glb"]));
+    assert!(err.contains("byte offset 20") && err.contains("bad.json"), "{err}");
+}
+
+/// Regression: a block at x = 1e308 mm passed validation; `export` wrote a node translation
+/// of `null` and `render` a camera full of `null`. Now exit 2 naming the block, nothing written.
+#[test]
+fn huge_coordinates_are_refused_naming_the_block() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scene("two_layer.json")).unwrap();
+    let far = text.replacen("[0, 22.5, 0]", "[1e308, 22.5, 0]", 1);
+    assert_ne!(far, text, "the fixture has the block to move");
+    let far = write(dir.path(), "far.json", far.as_bytes());
+    let glb = dir.path().join("far.glb");
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        far.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+    ]));
+    assert!(err.contains("block 1") && err.contains("outside the world"), "{err}");
+    assert!(!glb.exists());
+    let out = dir.path().join("settled.json");
+    let err = fails_with_2(&blockworld(&[
+        "settle",
+        far.to_str().unwrap(),
+        "--allow-drift",
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(err.contains("block 1"), "{err}");
+    assert!(!out.exists());
+}

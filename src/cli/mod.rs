@@ -4,6 +4,7 @@
 #[macro_use]
 pub mod stdout;
 mod commands;
+mod headless;
 pub mod files;
 pub mod view_args;
 
@@ -50,14 +51,21 @@ pub enum Command {
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {
+    headless::quiet_device_select_without_session();
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(err) if stdout::is_stdout_closed(&err) => std::process::ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err}");
-            for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+            let mut last = err.to_string();
+            for cause in err.chain().skip(1).map(|c| c.to_string()) {
+                // An error that already prints its source (`X: Is a directory`) is followed by
+                // that source in the chain: print each message once.
+                if !last.contains(&cause) {
+                    eprintln!("  caused by: {cause}");
+                }
+                last = cause;
             }
             std::process::ExitCode::from(2)
         }

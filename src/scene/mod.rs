@@ -19,7 +19,7 @@ pub use file::{
 };
 pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
-use crate::geom::{bounds3, DVec3, CONTACT_TOL_MM};
+use crate::geom::{bounds3, outside_world, DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
@@ -182,6 +182,7 @@ impl Scene {
                     index,
                 });
             }
+            check_in_world(b, index, source)?;
             let lowest = b
                 .world_vertices()
                 .iter()
@@ -209,6 +210,19 @@ impl Scene {
             }
         }
         Ok(())
+    }
+}
+
+/// Refuses a block with a vertex outside the world extent (README "Conventions"): finite but
+/// huge coordinates would overflow the renderer's f32 and write `null` into cameras and glTF.
+pub(crate) fn check_in_world(b: &Block, index: usize, source: &str) -> Result<(), SceneError> {
+    match b.world_vertices().into_iter().find_map(outside_world) {
+        Some(message) => Err(SceneError::OutsideWorld {
+            source_name: source.to_string(),
+            index,
+            message,
+        }),
+        None => Ok(()),
     }
 }
 

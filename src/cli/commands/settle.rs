@@ -45,6 +45,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             params.turn_tol_deg
         );
     }
+    if !r.stable {
+        // A drifted scene that no command could read back (a block slid off the floor or into
+        // another) is not written (README "Settling and datasets").
+        settled
+            .scene
+            .validate(&args.output.display().to_string())
+            .with_context(|| {
+                format!(
+                    "{}: the drifted poses do not form a valid scene; nothing written",
+                    args.scene.display()
+                )
+            })?;
+    }
     write_scene(&args.output, &settled.scene)?;
     if r.stable {
         outln!(
@@ -58,9 +71,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         eprintln!("warning: {} is not stable:\n{moved}", args.scene.display());
         outln!("wrote the drifted poses to {}", args.output.display())?;
-        if let Err(e) = settled.scene.validate(&args.output.display().to_string()) {
-            eprintln!("warning: the drifted poses do not validate: {e}");
-        }
     }
     Ok(())
 }
