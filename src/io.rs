@@ -67,9 +67,13 @@ mod tests {
 
     #[test]
     fn bom_and_invalid_utf8_are_named_with_the_offset() {
-        let bom = text_from_bytes(b"\xEF\xBB\xBF{}".to_vec()).unwrap_err().to_string();
+        let bom = text_from_bytes(b"\xEF\xBB\xBF{}".to_vec())
+            .unwrap_err()
+            .to_string();
         assert!(bom.contains("byte-order mark"), "{bom}");
-        let bad = text_from_bytes(b"{\"a\": \xFF}".to_vec()).unwrap_err().to_string();
+        let bad = text_from_bytes(b"{\"a\": \xFF}".to_vec())
+            .unwrap_err()
+            .to_string();
         assert!(bad.contains("0xFF at byte offset 6"), "{bad}");
         assert_eq!(text_from_bytes(b"{}".to_vec()).unwrap(), "{}");
     }

@@ -114,14 +114,34 @@ fn os_errors_are_printed_once() {
 fn bom_and_invalid_utf8_are_named() {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read(scene("two_layer.json")).unwrap();
-    let bom = write(dir.path(), "bom.json", &[b"\xEF\xBB\xBF".as_slice(), &text].concat());
-    let err = fails_with_2(&blockworld(&["export", bom.to_str().unwrap(), "-o", "x.glb"]));
-    assert!(err.contains("byte-order mark") && err.contains("bom.json"), "{err}");
+    let bom = write(
+        dir.path(),
+        "bom.json",
+        &[b"\xEF\xBB\xBF".as_slice(), &text].concat(),
+    );
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        bom.to_str().unwrap(),
+        "-o",
+        "x.glb",
+    ]));
+    assert!(
+        err.contains("byte-order mark") && err.contains("bom.json"),
+        "{err}"
+    );
     let mut bad = text.clone();
     bad[20] = 0xFF;
     let bad = write(dir.path(), "bad.json", &bad);
-    let err = fails_with_2(&blockworld(&["export", bad.to_str().unwrap(), "-o", "x.glb"]));
-    assert!(err.contains("byte offset 20") && err.contains("bad.json"), "{err}");
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        bad.to_str().unwrap(),
+        "-o",
+        "x.glb",
+    ]));
+    assert!(
+        err.contains("byte offset 20") && err.contains("bad.json"),
+        "{err}"
+    );
 }
 
 /// Regression: a block at x = 1e308 mm passed validation; `export` wrote a node translation
@@ -140,7 +160,10 @@ fn huge_coordinates_are_refused_naming_the_block() {
         "-o",
         glb.to_str().unwrap(),
     ]));
-    assert!(err.contains("block 1") && err.contains("outside the world"), "{err}");
+    assert!(
+        err.contains("block 1") && err.contains("outside the world"),
+        "{err}"
+    );
     assert!(!glb.exists());
     let out = dir.path().join("settled.json");
     let err = fails_with_2(&blockworld(&[
@@ -152,4 +175,49 @@ fn huge_coordinates_are_refused_naming_the_block() {
     ]));
     assert!(err.contains("block 1"), "{err}");
     assert!(!out.exists());
+}
+
+/// Regression: `--views ""` exited 0 writing nothing, and `--views ne,ne` wrote every file
+/// twice.
+#[test]
+fn render_views_must_be_given_once_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let one = scene("single_cube.json");
+    for (views, says) in [("", "no view given"), ("ne,ne", "ne is given twice")] {
+        let o = blockworld(&[
+            "render",
+            &one,
+            "--views",
+            views,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let err = fails_with_2(&o);
+        assert!(err.contains(says), "{err}");
+        assert!(!out.exists(), "nothing written for --views {views:?}");
+    }
+}
+
+/// Regression: `edges -o e.jpg` wrote PNG bytes under a `.jpg` name.
+#[test]
+fn edges_refuses_a_non_png_output_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let pic = dir.path().join("v.png");
+    image::GrayImage::from_fn(16, 16, |x, _| image::Luma([if x < 8 { 20 } else { 200 }]))
+        .save(&pic)
+        .unwrap();
+    let jpg = dir.path().join("e.jpg");
+    let err = fails_with_2(&blockworld(&[
+        "edges",
+        pic.to_str().unwrap(),
+        "-o",
+        jpg.to_str().unwrap(),
+    ]));
+    assert!(err.contains("e.jpg") && err.contains(".png"), "{err}");
+    assert!(!jpg.exists());
+    let png = dir.path().join("e.png");
+    let o = blockworld(&["edges", pic.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(png.exists());
 }

@@ -4,8 +4,8 @@
 #[macro_use]
 pub mod stdout;
 mod commands;
-mod headless;
 pub mod files;
+mod headless;
 pub mod view_args;
 
 use clap::{Parser, Subcommand};

@@ -127,7 +127,10 @@ pub struct RenderedView {
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// No adapter for the requested backend.
-    #[error("no usable {backend} graphics adapter: {detail}. {}", no_adapter_hint(backend))]
+    #[error(
+        "no usable {backend} graphics adapter: {detail}. {}",
+        no_adapter_hint(backend)
+    )]
     NoAdapter {
         /// "Vulkan" or "GL".
         backend: &'static str,
@@ -325,14 +328,20 @@ mod tests {
             detail: "none".into(),
         }
         .to_string();
-        assert!(gl.contains("--backend vulkan") && !gl.contains("--backend gl"), "{gl}");
+        assert!(
+            gl.contains("--backend vulkan") && !gl.contains("--backend gl"),
+            "{gl}"
+        );
         assert!(!gl.contains("mesa-vulkan-drivers"), "{gl}");
         let vk = RenderError::NoAdapter {
             backend: "Vulkan",
             detail: "none".into(),
         }
         .to_string();
-        assert!(vk.contains("--backend gl") && vk.contains("mesa-vulkan-drivers"), "{vk}");
+        assert!(
+            vk.contains("--backend gl") && vk.contains("mesa-vulkan-drivers"),
+            "{vk}"
+        );
     }
 
     #[test]

@@ -363,20 +363,33 @@ mod tests {
         let err = parse_scene(empty, "x.json").unwrap_err();
         assert!(matches!(err, SceneError::NoBlocks { .. }), "{err}");
         assert!(err.to_string().contains("x.json"), "{err}");
-        assert!(parse_reconstruction(empty, "x.json").unwrap().blocks.is_empty());
+        assert!(parse_reconstruction(empty, "x.json")
+            .unwrap()
+            .blocks
+            .is_empty());
     }
 
     /// Regression: a block at x = 1e308 mm passed validation and the renderer and glTF export
     /// wrote `null`; blocks outside the world extent are refused, naming the block.
     #[test]
     fn blocks_outside_the_world_are_refused() {
-        for (far, axis) in [("[1e308, 7.5, 0]", "x = "), ("[0, 7.5, -10010]", "z = "), ("[0, 2e4, 0]", "y = ")] {
+        for (far, axis) in [
+            ("[1e308, 7.5, 0]", "x = "),
+            ("[0, 7.5, -10010]", "z = "),
+            ("[0, 2e4, 0]", "y = "),
+        ] {
             let text = TWO_LAYER.replace("[0, 22.5, 0]", far);
             let err = parse_scene(&text, "x.json").unwrap_err();
-            assert!(matches!(err, SceneError::OutsideWorld { index: 1, .. }), "{err}");
+            assert!(
+                matches!(err, SceneError::OutsideWorld { index: 1, .. }),
+                "{err}"
+            );
             assert!(err.to_string().contains(axis), "{err}");
             let err = parse_reconstruction(&text, "x.json").unwrap_err();
-            assert!(matches!(err, SceneError::OutsideWorld { index: 1, .. }), "{err}");
+            assert!(
+                matches!(err, SceneError::OutsideWorld { index: 1, .. }),
+                "{err}"
+            );
         }
         let edge = TWO_LAYER.replace("[0, 22.5, 0]", "[9992.5, 7.5, 0]");
         parse_scene(&edge, "x.json").unwrap();

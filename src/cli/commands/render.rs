@@ -22,7 +22,7 @@ pub struct Args {
 
 /// Runs `blockworld render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let views = args.view.corner_views()?;
+    let views = args.view.some_corner_views()?;
     let opts = args.view.render_options()?;
     let backend = args.view.backend()?;
     let scene = read_scene(&args.scene)
