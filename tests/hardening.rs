@@ -221,3 +221,108 @@ fn edges_refuses_a_non_png_output_name() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(png.exists());
 }
+
+fn generate(dir: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "generate", "--views", "", "--family", "single", "--jobs", "1",
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", dir.to_str().unwrap()]);
+    blockworld(&args)
+}
+
+/// Regression: every `generate` error said "fix the cause, e.g. free disk space", also for
+/// `--count 0`, options differing from the existing dataset and a concurrent writer.
+#[test]
+fn generate_errors_carry_their_own_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    let err = fails_with_2(&generate(&ds, &["--count", "0"]));
+    assert!(err.contains("--count must be at least 1"), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
+    let o = generate(&ds, &["--count", "2", "--seed", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = fails_with_2(&generate(&ds, &["--count", "2", "--seed", "2"]));
+    assert!(
+        err.contains("other options") && err.contains("seed"),
+        "{err}"
+    );
+    assert!(!err.contains("disk space"), "{err}");
+}
+
+/// Regression: two `generate` runs into one folder deleted each other's temporary files; the
+/// second is refused naming the first's pid, and nothing of the first is disturbed.
+#[test]
+fn a_second_generate_into_the_same_folder_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    let mut first = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args([
+            "generate", "--views", "", "--family", "single", "--jobs", "1",
+        ])
+        .args(["--count", "18446744073709551615", "-o"])
+        .arg(&ds)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    wait_for(&ds.join("s000000").join("done.json"));
+    let err = fails_with_2(&generate(&ds, &["--count", "18446744073709551615"]));
+    assert!(err.contains(&format!("pid {}", first.id())), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
+    assert_eq!(first.try_wait().unwrap(), None, "the first run goes on");
+    first.kill().unwrap();
+    first.wait().unwrap();
+}
+
+/// Regression: `generate --count 18446744073709551615` panicked and `--count 1000000000000`
+/// aborted allocating every scene up front. Generation streams: the run starts writing scenes
+/// at once and its memory stays small.
+#[test]
+fn generate_streams_whatever_the_count() {
+    for count in ["18446744073709551615", "1000000000000"] {
+        let dir = tempfile::tempdir().unwrap();
+        let ds = dir.path().join("ds");
+        let mut run = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args([
+                "generate", "--views", "", "--family", "single", "--jobs", "1",
+            ])
+            .args(["--count", count, "-o"])
+            .arg(&ds)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        wait_for(&ds.join("s000002").join("done.json"));
+        let status = std::fs::read_to_string(format!("/proc/{}/status", run.id())).unwrap();
+        let rss_kib: u64 = status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.split_whitespace().next()?.parse().ok())
+            .unwrap();
+        assert!(
+            rss_kib < 300 * 1024,
+            "--count {count}: {rss_kib} KiB resident"
+        );
+        assert_eq!(
+            run.try_wait().unwrap(),
+            None,
+            "--count {count} still running"
+        );
+        run.kill().unwrap();
+        run.wait().unwrap();
+    }
+}
+
+/// Waits up to a minute for `path` to appear (a scene finished by a background run).
+fn wait_for(path: &Path) {
+    let start = std::time::Instant::now();
+    while !path.exists() {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "{} did not appear",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}

@@ -10,6 +10,7 @@
 mod error;
 mod families;
 mod generate;
+mod lock;
 mod manifest;
 mod shard;
 mod writer;

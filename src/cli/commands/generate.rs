@@ -7,9 +7,12 @@
 
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
-use blockworld::dataset::{generate_dataset, DatasetOptions, Family, GenerateSummary, Shard};
+use blockworld::dataset::{
+    generate_dataset, DatasetError, DatasetOptions, Family, GenerateSummary, Shard,
+};
 use blockworld::physics::SettleParams;
 use blockworld::render::Renderer;
+use blockworld::scene::SceneError;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -147,18 +150,32 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = dataset_options(&args)?;
     let renderer = renderer_for(&args.view)?;
-    let total = opts.shard.indices(opts.count).count() as u64;
+    let total = opts.shard.len(opts.count);
     let started = Instant::now();
     let summary = with_progress(total, |progress| {
         generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
     })
-    .with_context(|| {
-        format!(
-            "generating {} (fix the cause, e.g. free disk space, and re-run the same command: finished scenes are kept)",
-            args.output.display()
-        )
-    })?;
+    .map_err(|e| with_fix(e, &args.output))?;
     report(&summary, &opts, started.elapsed().as_secs_f64())
+}
+
+/// The error with a fix that fits it: only an interrupted write (a full disk, a read-only or
+/// vanished folder) is fixed by re-running the same command; bad options, a dataset written
+/// with other options and a concurrent writer carry their own fix in their message.
+fn with_fix(e: DatasetError, out: &std::path::Path) -> anyhow::Error {
+    let resumable = matches!(
+        e,
+        DatasetError::Io { .. } | DatasetError::Scene(SceneError::Io { .. })
+    );
+    let what = format!("generating {}", out.display());
+    if resumable {
+        anyhow::Error::new(e).context(format!(
+            "{what} (fix the cause, e.g. free disk space, and re-run the same command: finished \
+             scenes are kept)"
+        ))
+    } else {
+        anyhow::Error::new(e).context(what)
+    }
 }
 
 /// Runs `f` with a progress callback: an indicatif bar on a terminal, plain log lines (about
@@ -202,7 +219,7 @@ fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) -> anyhow::Resu
     };
     outln!(
         "{} scenes{shard}: {} generated, {} kept from an earlier run; redrew {} unstable and {} unplaceable draws; {:.2} s ({:.1} scenes/s); manifest {}",
-        s.entries.len(),
+        s.scenes,
         s.generated,
         s.resumed,
         s.unstable_draws,

@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             100.0 * secs / busy
         )?;
     }
-    let blocks: usize = s.entries.iter().map(|e| e.blocks).sum();
+    let blocks = s.blocks;
     outln!(
         "wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
         wall_s,
