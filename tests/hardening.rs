@@ -326,3 +326,29 @@ fn wait_for(path: &Path) {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
 }
+
+/// Regression: `--size` accepted pictures the device cannot read back (over about 52 Mpx), and
+/// the render failed after start-up with wgpu's raw validation error; the check now runs
+/// against the adapter's limits first and says which sizes work.
+#[test]
+fn oversized_pictures_are_refused_before_rendering() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = blockworld(&[
+        "render",
+        &scene("single_cube.json"),
+        "--views",
+        "ne",
+        "--size",
+        "8192x8192",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = fails_with_2(&o);
+    assert!(err.contains("8192x8192") && err.contains("Mpx"), "{err}");
+    assert!(!err.to_lowercase().contains("validation"), "{err}");
+    assert!(!out.exists());
+}

@@ -4,40 +4,105 @@
 //! shared plus `.lock.shard-I-of-N` exclusively, so the shards of one dataset written by
 //! separate processes (Slurm, Kubernetes) run side by side while the same shard, or a whole run
 //! beside a shard run, is refused. Each holder writes "pid P on host H" into the file it holds
-//! exclusively, and a refused writer names it. The kernel drops a lock when its process dies
-//! (kill -9 included), so nothing stale is ever left to clean up.
+//! exclusively, and a refused writer names it. A finished run removes its lock files (the last
+//! shard out removes `.lock`), so a dataset's files are the same whoever wrote it; one left by a
+//! killed run holds no lock (the kernel drops it with the process) and the next run reuses it.
 
 use super::{DatasetError, Shard};
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Held locks; dropping it releases them.
+/// Held locks; dropping it removes the lock files it may remove and releases them.
 #[derive(Debug)]
 pub struct DatasetLock {
-    _files: Vec<File>,
+    /// (file, path, held exclusively), `.lock` first.
+    held: Vec<(File, PathBuf, bool)>,
+}
+
+impl Drop for DatasetLock {
+    fn drop(&mut self) {
+        while let Some((file, path, exclusive)) = self.held.pop() {
+            // A shared holder removes `.lock` only when it is the last one (it can turn its
+            // lock exclusive); a writer that opened the file meanwhile sees it unlinked and
+            // retries on a fresh file.
+            if exclusive || file.try_lock().is_ok() {
+                let _ = std::fs::remove_file(&path);
+            }
+        }
+    }
 }
 
 /// Takes the locks for writing `shard` of the dataset in `dir` (which must exist), or returns
 /// [`DatasetError::Locked`] naming the run that holds them.
 pub fn lock_dataset(dir: &Path, shard: Shard) -> Result<DatasetLock, DatasetError> {
     let main = dir.join(".lock");
-    let main_file = open(&main)?;
     if shard.is_whole() {
-        try_lock(&main_file, true, &main, || holders(dir))?;
-        write_holder(&main_file, &main)?;
+        let file = acquire(&main, true, || holders(dir))?;
+        write_holder(&file);
         return Ok(DatasetLock {
-            _files: vec![main_file],
+            held: vec![(file, main, true)],
         });
     }
-    try_lock(&main_file, false, &main, || read_holder(&main))?;
+    let main_file = acquire(&main, false, || read_holder(&main))?;
+    let mut lock = DatasetLock {
+        held: vec![(main_file, main, false)],
+    };
     let own = dir.join(format!(".lock.shard-{}-of-{}", shard.index, shard.count));
-    let own_file = open(&own)?;
-    try_lock(&own_file, true, &own, || read_holder(&own))?;
-    write_holder(&own_file, &own)?;
-    Ok(DatasetLock {
-        _files: vec![main_file, own_file],
+    let own_file = acquire(&own, true, || read_holder(&own))?;
+    write_holder(&own_file);
+    lock.held.push((own_file, own, true));
+    Ok(lock)
+}
+
+/// Opens and locks `path`, retrying when the file was removed under us by a finishing run
+/// (then the lock we got is on a stale file) or a run is just leaving.
+fn acquire(
+    path: &Path,
+    exclusive: bool,
+    holder: impl FnOnce() -> String,
+) -> Result<File, DatasetError> {
+    const ATTEMPTS: u32 = 5;
+    for attempt in 1..=ATTEMPTS {
+        let file = open(path)?;
+        let result = if exclusive {
+            file.try_lock()
+        } else {
+            file.try_lock_shared()
+        };
+        match result {
+            Ok(()) if is_current(&file, path) => return Ok(file),
+            Ok(()) => continue,
+            Err(TryLockError::WouldBlock) if attempt < ATTEMPTS => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            Err(TryLockError::WouldBlock) => {
+                return Err(DatasetError::Locked {
+                    path: path.to_path_buf(),
+                    holder: holder(),
+                })
+            }
+            Err(TryLockError::Error(source)) => {
+                return Err(DatasetError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                })
+            }
+        }
+    }
+    Err(DatasetError::Locked {
+        path: path.to_path_buf(),
+        holder: "runs starting and finishing at the same moment; try again".to_string(),
     })
+}
+
+/// Whether `file` is still the file at `path` (not removed by a run that finished).
+fn is_current(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
 }
 
 fn open(path: &Path) -> Result<File, DatasetError> {
@@ -53,43 +118,17 @@ fn open(path: &Path) -> Result<File, DatasetError> {
         })
 }
 
-fn try_lock(
-    file: &File,
-    exclusive: bool,
-    path: &Path,
-    holder: impl FnOnce() -> String,
-) -> Result<(), DatasetError> {
-    let result = if exclusive {
-        file.try_lock()
-    } else {
-        file.try_lock_shared()
-    };
-    match result {
-        Ok(()) => Ok(()),
-        Err(TryLockError::WouldBlock) => Err(DatasetError::Locked {
-            path: path.to_path_buf(),
-            holder: holder(),
-        }),
-        Err(TryLockError::Error(source)) => Err(DatasetError::Io {
-            path: path.to_path_buf(),
-            source,
-        }),
-    }
-}
-
 /// "pid P on host H" (every Kubernetes pod is PID 1, so the host tells pods apart).
 fn this_run() -> String {
     let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap_or_default();
     format!("pid {} on host {}", std::process::id(), host.trim())
 }
 
-fn write_holder(mut file: &File, path: &Path) -> Result<(), DatasetError> {
-    let io = |source| DatasetError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    file.set_len(0).map_err(io)?;
-    file.write_all(this_run().as_bytes()).map_err(io)
+/// Best effort: the record only names the holder in a refusal (a full disk must not stop a
+/// run that could resume).
+fn write_holder(mut file: &File) {
+    let _ = file.set_len(0);
+    let _ = file.write_all(this_run().as_bytes());
 }
 
 fn read_holder(path: &Path) -> String {
@@ -149,6 +188,8 @@ mod tests {
             .to_string();
         assert!(err.contains("shard runs"), "{err}");
         drop((s0, s1));
-        lock_dataset(dir.path(), Shard::WHOLE).unwrap();
+        drop(lock_dataset(dir.path(), Shard::WHOLE).unwrap());
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+        assert!(left.is_empty(), "lock files removed when done: {left:?}");
     }
 }

@@ -263,13 +263,24 @@ impl Renderer {
         self.gpu.adapter_info()
     }
 
-    fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
+    /// Checks options against this device's limits before anything is rendered: each side at
+    /// most the largest texture, and the readback of gray, depth and ids (5 bytes per pixel)
+    /// within the largest buffer; the error says which sizes work.
+    pub fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
         opts.validate()?;
         let [w, h] = opts.camera.size_px;
         let max = self.gpu.max_texture_px();
         if w > max || h > max {
             return Err(RenderError::Options(format!(
                 "picture size {w}x{h} px: each side must be 1..={max} on this device"
+            )));
+        }
+        if let Err(side) = self.gpu.readback_fits([w, h]) {
+            return Err(RenderError::Options(format!(
+                "picture size {w}x{h} px is too large for this device: its largest buffer \
+                 cannot hold the picture with its depth and ids (5 bytes per pixel); use at \
+                 most about {} Mpx, e.g. {side}x{side}",
+                (side as u64 * side as u64) / 1_000_000
             )));
         }
         Ok(())

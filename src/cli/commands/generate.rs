@@ -143,6 +143,7 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
     }
     let r = Renderer::new(args.backend()?)
         .context("creating the renderer (pass --views \"\" to write scene.json only)")?;
+    r.check_options(&args.render_options()?).context("--size")?;
     Ok(Some(r))
 }
 

@@ -28,6 +28,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = read_scene(&args.scene)
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
+    renderer.check_options(&opts).context("--size")?;
     let rendered = renderer
         .render_views(&scene, &views, &opts)
         .with_context(|| format!("rendering {}", args.scene.display()))?;
