@@ -9,7 +9,7 @@
 //! killed run holds no lock (the kernel drops it with the process) and the next run reuses it.
 
 use super::{DatasetError, Shard};
-use std::fs::{File, OpenOptions, TryLockError};
+use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -26,7 +26,7 @@ impl Drop for DatasetLock {
             // A shared holder removes `.lock` only when it is the last one (it can turn its
             // lock exclusive); a writer that opened the file meanwhile sees it unlinked and
             // retries on a fresh file.
-            if exclusive || file.try_lock().is_ok() {
+            if exclusive || try_flock(&file, true).is_ok() {
                 let _ = std::fs::remove_file(&path);
             }
         }
@@ -65,24 +65,19 @@ fn acquire(
     const ATTEMPTS: u32 = 5;
     for attempt in 1..=ATTEMPTS {
         let file = open(path)?;
-        let result = if exclusive {
-            file.try_lock()
-        } else {
-            file.try_lock_shared()
-        };
-        match result {
+        match try_flock(&file, exclusive) {
             Ok(()) if is_current(&file, path) => return Ok(file),
             Ok(()) => continue,
-            Err(TryLockError::WouldBlock) if attempt < ATTEMPTS => {
+            Err(Busy::Held) if attempt < ATTEMPTS => {
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
-            Err(TryLockError::WouldBlock) => {
+            Err(Busy::Held) => {
                 return Err(DatasetError::Locked {
                     path: path.to_path_buf(),
                     holder: holder(),
                 })
             }
-            Err(TryLockError::Error(source)) => {
+            Err(Busy::Io(source)) => {
                 return Err(DatasetError::Io {
                     path: path.to_path_buf(),
                     source,
@@ -94,6 +89,35 @@ fn acquire(
         path: path.to_path_buf(),
         holder: "runs starting and finishing at the same moment; try again".to_string(),
     })
+}
+
+/// Why a lock was not taken.
+enum Busy {
+    /// Another open file holds a conflicting lock.
+    Held,
+    /// flock(2) failed otherwise.
+    Io(std::io::Error),
+}
+
+/// `flock(2)` without blocking: exclusive or shared. On Linux it also works across the hosts
+/// of an NFS share (emulated with byte-range locks), as a Slurm cluster's datasets need.
+fn try_flock(file: &File, exclusive: bool) -> Result<(), Busy> {
+    use std::os::unix::io::AsRawFd;
+    let op = if exclusive {
+        libc::LOCK_EX
+    } else {
+        libc::LOCK_SH
+    };
+    // SAFETY: flock only reads the descriptor number, which `file` keeps open for the call.
+    let rc = unsafe { libc::flock(file.as_raw_fd(), op | libc::LOCK_NB) };
+    if rc == 0 {
+        return Ok(());
+    }
+    let e = std::io::Error::last_os_error();
+    match e.raw_os_error() {
+        Some(libc::EWOULDBLOCK) => Err(Busy::Held),
+        _ => Err(Busy::Io(e)),
+    }
 }
 
 /// Whether `file` is still the file at `path` (not removed by a run that finished).
@@ -150,7 +174,7 @@ fn holders(dir: &Path) -> String {
     shard_files.sort();
     let held: Vec<String> = shard_files
         .iter()
-        .filter(|p| File::open(p).is_ok_and(|f| f.try_lock().is_err()))
+        .filter(|p| File::open(p).is_ok_and(|f| try_flock(&f, true).is_err()))
         .map(|p| read_holder(p))
         .collect();
     if held.is_empty() {
