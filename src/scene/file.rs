@@ -179,6 +179,10 @@ fn refuse_positional_records(text: &str, source_name: &str) -> Result<(), SceneE
     Ok(())
 }
 
+/// A quaternion whose squared length is within this of 1 is kept bit for bit (a normalized
+/// quaternion's rounding error is a few 1e-16).
+const UNIT_QUAT_TOL: f64 = 1e-14;
+
 fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Block, SceneError> {
     let block_type = block_type(&entry.type_id).ok_or_else(|| SceneError::UnknownBlockType {
         source_name: source.to_string(),
@@ -208,7 +212,10 @@ fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Bl
                     "rotation [x, y, z, w] must be a unit quaternion (length {len:.6})"
                 )));
             }
-            Orientation::Quaternion(q.normalize())
+            // Normalize only what is not unit to rounding already: normalize() of a normalized
+            // quaternion may move it by an ulp, so written files would not read back the same.
+            let unit = (q.length_squared() - 1.0).abs() <= UNIT_QUAT_TOL;
+            Orientation::Quaternion(if unit { q } else { q.normalize() })
         }
     };
     Ok(Block {
@@ -393,6 +400,20 @@ mod tests {
         }
         let edge = TWO_LAYER.replace("[0, 22.5, 0]", "[9992.5, 7.5, 0]");
         parse_scene(&edge, "x.json").unwrap();
+    }
+
+    /// Regression: a rotation within the unit tolerance was normalized on every read, so a
+    /// written scene read back an ulp away (found by the scene mutants).
+    #[test]
+    fn near_unit_rotations_read_back_bit_for_bit() {
+        let text = TWO_LAYER.replace(
+            "\"yaw_deg\": 0",
+            "\"rotation\": [0, 0.7071033905688866, 0, 0.7071101717879502]",
+        );
+        let once = parse_scene(&text, "x.json").unwrap();
+        let twice = parse_scene(&scene_to_json(&once), "x.json").unwrap();
+        assert_eq!(scene_to_json(&once), scene_to_json(&twice));
+        assert_eq!(once, twice);
     }
 
     #[test]
