@@ -352,3 +352,49 @@ fn oversized_pictures_are_refused_before_rendering() {
     assert!(!err.to_lowercase().contains("validation"), "{err}");
     assert!(!out.exists());
 }
+
+/// Regression: `vertices` on noise was superlinear (8192 x 8192 took 263 s and 2.7 GB); a
+/// picture with far more edge pixels than a block scene is refused, saying the cap, while a
+/// rendered 2048 x 2048 view of the thesis sample is not.
+#[test]
+fn noise_pictures_are_refused_with_the_edge_cap() {
+    use blockworld::camera::{Camera, CameraOptions, CornerView};
+    use blockworld::vision::{detect_line_drawing, VisionError, VisionOptions};
+    use rand::{Rng, SeedableRng};
+    let side = 2048;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let noise = image::GrayImage::from_fn(side, side, |_, _| image::Luma([rng.random()]));
+    let corners = [glam::DVec3::ZERO, glam::DVec3::splat(15.0)];
+    let opts = CameraOptions {
+        size_px: [side, side],
+        ..Default::default()
+    };
+    let camera = Camera::frame(&corners, CornerView::Ne, &opts);
+    let start = std::time::Instant::now();
+    let err = detect_line_drawing(&noise, &camera, &VisionOptions::default()).unwrap_err();
+    println!("refused in {:.2} s: {err}", start.elapsed().as_secs_f64());
+    assert!(
+        matches!(
+            err,
+            VisionError::TooManyEdges {
+                cap_px: 819_200,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("819200"), "{err}");
+    let Some(renderer) = common::renderer() else {
+        return;
+    };
+    let scene = blockworld::scene::read_scene(Path::new(&scene("thesis_sample.json"))).unwrap();
+    let mut ropts = blockworld::render::RenderOptions::default();
+    ropts.camera.size_px = [side, side];
+    for view in renderer
+        .render_views(&scene, &CornerView::ALL, &ropts)
+        .unwrap()
+    {
+        let det = detect_line_drawing(&view.gray, &view.camera, &VisionOptions::default());
+        assert!(det.is_ok(), "{:?}", det.err());
+    }
+}

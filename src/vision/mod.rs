@@ -95,18 +95,37 @@ fn check_side(w: u32, h: u32) -> Result<(), VisionError> {
 }
 
 /// Runs steps 1-3 on `image` taken by `camera`. An empty or constant picture gives an empty
-/// drawing; a picture of another size than the camera's is an error.
+/// drawing; a picture of another size than the camera's is an error, and so is one with more
+/// edge pixels than any block scene gives ([`MAX_EDGE_PX_PER_SIDE_PX`]).
 pub fn detect_line_drawing(
     image: &GrayImage,
     camera: &Camera,
     opts: &VisionOptions,
 ) -> Result<Detection, VisionError> {
     check_picture(image, camera)?;
-    Ok(detect_with_directions(
-        image,
-        &edge_directions(camera, &EdgeAxis::BLOCK_AXES),
-        opts,
-    ))
+    let (_, edges) = detect_edges(image, &opts.edges);
+    check_edge_count(&edges)?;
+    let directions = edge_directions(camera, &EdgeAxis::BLOCK_AXES);
+    Ok(detect_from_edges(image, edges, &directions, opts))
+}
+
+/// Edge pixels allowed per pixel of picture side (width + height). A line drawing's edge
+/// pixels grow with the picture's side, since its lines are a few pixels wide: over the
+/// accuracy suite's views at 512x480 and 2048x2048 at most 20 (w + h) pixels were edges.
+/// Noise grows with the area (half the pixels of a random picture are edges) and made line
+/// finding superlinear (an 8192x8192 noise picture took 263 s and 2.7 GB), so a picture with
+/// more than 200 (w + h) edge pixels, ten times any block scene, is refused.
+pub const MAX_EDGE_PX_PER_SIDE_PX: u64 = 200;
+
+/// Refuses an edge map with more than [`MAX_EDGE_PX_PER_SIDE_PX`] x (w + h) edge pixels.
+pub fn check_edge_count(edges: &GrayImage) -> Result<(), VisionError> {
+    let (w, h) = edges.dimensions();
+    let cap_px = MAX_EDGE_PX_PER_SIDE_PX * (w as u64 + h as u64);
+    let edge_px = edges.as_raw().iter().filter(|v| **v != 0).count() as u64;
+    if edge_px > cap_px {
+        return Err(VisionError::TooManyEdges { edge_px, cap_px });
+    }
+    Ok(())
 }
 
 /// Steps 1-3 with the three picture directions given (no camera check).
@@ -116,6 +135,16 @@ pub fn detect_with_directions(
     opts: &VisionOptions,
 ) -> Detection {
     let (_, edges) = detect_edges(image, &opts.edges);
+    detect_from_edges(image, edges, directions, opts)
+}
+
+/// Steps 2-3 on an edge map of `image`.
+fn detect_from_edges(
+    image: &GrayImage,
+    edges: GrayImage,
+    directions: &[(EdgeAxis, EdgeDirection)],
+    opts: &VisionOptions,
+) -> Detection {
     let lines = fit_lines(&edges, directions, &opts.lines);
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
     let drawing = find_vertices(&lines, &opts.vertices);
