@@ -6,6 +6,7 @@ pub mod stdout;
 mod commands;
 pub mod files;
 mod headless;
+pub mod progress;
 pub mod view_args;
 
 use clap::{Parser, Subcommand};

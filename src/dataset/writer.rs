@@ -425,6 +425,15 @@ pub struct MergeSummary {
 /// Joins `manifest.shard-I-of-N.jsonl` files into `manifest.jsonl`, checking that every shard
 /// and every scene `0..count` is there exactly once and every file has its listed sha256.
 pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
+    merge_shards_with_progress(dir, &|_, _| {})
+}
+
+/// [`merge_shards`], calling `progress(checked, scenes)` as scenes' hashes are checked (the
+/// long part of merging a large dataset).
+pub fn merge_shards_with_progress(
+    dir: &Path,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<MergeSummary, DatasetError> {
     let merge_err = |message: String| DatasetError::Merge {
         path: dir.to_path_buf(),
         message,
@@ -477,7 +486,12 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
         )));
     }
     let entries: Vec<ManifestEntry> = entries.into_values().collect();
-    entries.par_iter().try_for_each(|e| verify_entry(dir, e))?;
+    let checked = AtomicU64::new(0);
+    entries.par_iter().try_for_each(|e| {
+        verify_entry(dir, e)?;
+        progress(checked.fetch_add(1, Ordering::Relaxed) + 1, count);
+        Ok::<(), DatasetError>(())
+    })?;
     let manifest = dir.join(MANIFEST_NAME);
     write_atomic(&manifest, manifest_text(&entries).as_bytes()).map_err(io_err(&manifest))?;
     Ok(MergeSummary {

@@ -5,6 +5,7 @@
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
 //! `SLURM_ARRAY_TASK_ID` (minus `SLURM_ARRAY_TASK_MIN`) or Kubernetes' `JOB_COMPLETION_INDEX`.
 
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
 use blockworld::dataset::{
@@ -13,10 +14,7 @@ use blockworld::dataset::{
 use blockworld::physics::SettleParams;
 use blockworld::render::Renderer;
 use blockworld::scene::SceneError;
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Options of `blockworld generate`.
@@ -153,7 +151,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let renderer = renderer_for(&args.view)?;
     let total = opts.shard.len(opts.count);
     let started = Instant::now();
-    let summary = with_progress(total, |progress| {
+    let summary = with_progress("generate", "scenes", total, |progress| {
         generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
     })
     .map_err(|e| with_fix(e, &args.output))?;
@@ -176,39 +174,6 @@ fn with_fix(e: DatasetError, out: &std::path::Path) -> anyhow::Error {
         ))
     } else {
         anyhow::Error::new(e).context(what)
-    }
-}
-
-/// Runs `f` with a progress callback: an indicatif bar on a terminal, plain log lines (about
-/// every 5%) otherwise.
-pub fn with_progress<T>(total: u64, f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) -> T) -> T {
-    if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(total);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} scenes  {per_sec}  ETA {eta}  {elapsed_precise}",
-            )
-            .expect("valid template"),
-        );
-        let out = f(&|done, _| bar.set_position(done));
-        bar.finish();
-        out
-    } else {
-        let step = (total / 20).max(1);
-        let started = Instant::now();
-        let last = AtomicU64::new(0);
-        f(&|done, total| {
-            if done % step == 0 || done == total {
-                let prev = last.fetch_max(done, Ordering::Relaxed);
-                if prev < done {
-                    let secs = started.elapsed().as_secs_f64().max(1e-9);
-                    eprintln!(
-                        "generate: {done}/{total} scenes, {:.1} scenes/s",
-                        done as f64 / secs
-                    );
-                }
-            }
-        })
     }
 }
 

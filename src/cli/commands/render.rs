@@ -1,6 +1,7 @@
 //! `blockworld render SCENE.json -o DIR`: the four corner views of a scene and their ground
 //! truth (README "Rendering"), written with [`blockworld::output::write_rendered_views`].
 
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
 use blockworld::output::write_rendered_views;
@@ -29,9 +30,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     renderer.check_options(&opts).context("--size")?;
-    let rendered = renderer
-        .render_views(&scene, &views, &opts)
-        .with_context(|| format!("rendering {}", args.scene.display()))?;
+    let rendered = with_progress("render", "views", views.len() as u64, |progress| {
+        let mut done = Vec::with_capacity(views.len());
+        for v in &views {
+            done.push(renderer.render(&scene, *v, &opts)?);
+            progress(done.len() as u64, views.len() as u64);
+        }
+        Ok::<_, blockworld::render::RenderError>(done)
+    })
+    .with_context(|| format!("rendering {}", args.scene.display()))?;
     write_and_list(&args.out, &rendered)?;
     Ok(())
 }

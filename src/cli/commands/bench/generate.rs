@@ -2,7 +2,8 @@
 //! write) and the time split between the stages (README "Settling and datasets"; target >= 40 scenes/s
 //! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores).
 
-use crate::cli::commands::generate::{checked_options, renderer_for, with_progress};
+use crate::cli::commands::generate::{checked_options, renderer_for};
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
 use blockworld::dataset::{generate_dataset, Shard};
@@ -37,7 +38,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let renderer = renderer_for(&args.view)?;
     let dir = std::env::temp_dir().join(format!("blockworld-bench-{}", std::process::id()));
     let started = Instant::now();
-    let result = with_progress(opts.count, |p| {
+    let result = with_progress("bench generate", "scenes", opts.count, |p| {
         generate_dataset(&dir, &opts, renderer.as_ref(), p)
     });
     let wall_s = started.elapsed().as_secs_f64();
