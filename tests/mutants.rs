@@ -1,4 +1,4 @@
-//! Mutation tests over scene files (README "Exit codes"): seeded mutants of the example and
+//! Mutation tests over scene files (README "Exit codes and progress output"): seeded mutants of the example and
 //! suite scenes (numbers swapped for extreme values, tokens inserted, spans deleted, duplicated
 //! or truncated, bytes flipped) go through the scene readers in-process and through
 //! `blockworld export` as a user would run it. Every mutant must end with exit 0 or 2, never a
