@@ -3,7 +3,7 @@
 //! or truncated, bytes flipped) go through the scene readers in-process and through
 //! `blockworld export` as a user would run it. Every mutant must end with exit 0 or 2, never a
 //! panic; a failure names the input and leaves nothing behind; a success writes no `null`.
-//! `tests/fuzz/corpus/scene/` (the cargo-fuzz corpus of the `scene` target) is replayed too.
+//! `tests/fuzz/seeds/scene/` (the cargo-fuzz corpus of the `scene` target) is replayed too.
 
 mod common;
 
@@ -162,7 +162,7 @@ fn scene_readers_survive_twenty_thousand_mutants() {
 /// The committed fuzz corpus still holds.
 #[test]
 fn fuzz_corpus_replays() {
-    let dir = common::root().join("tests/fuzz/corpus/scene");
+    let dir = common::root().join("tests/fuzz/seeds/scene");
     let files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .flatten()
@@ -279,12 +279,12 @@ fn export_cli_survives_two_thousand_mutants() {
     );
 }
 
-/// Rewrites `tests/fuzz/corpus/scene/` (the seeds and 100 seeded mutants):
+/// Rewrites `tests/fuzz/seeds/scene/` (the seeds and 100 seeded mutants):
 /// `cargo test --test mutants -- --ignored write_fuzz_corpus`.
 #[test]
 #[ignore]
 fn write_fuzz_corpus() {
-    let dir = common::root().join("tests/fuzz/corpus/scene");
+    let dir = common::root().join("tests/fuzz/seeds/scene");
     std::fs::create_dir_all(&dir).unwrap();
     let seeds = seeds();
     let mut rng = ChaCha8Rng::seed_from_u64(11);

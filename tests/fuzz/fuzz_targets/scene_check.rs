@@ -1,5 +1,5 @@
 // The property the `scene` fuzz target checks, shared with `tests/mutants.rs` (which replays
-// the committed corpus `tests/fuzz/corpus/scene/` and thousands of seeded mutants on stable
+// the committed corpus `tests/fuzz/seeds/scene/` and thousands of seeded mutants on stable
 // Rust) through `include!`: any bytes either fail to read as a scene or reconstruction with an
 // error naming the source, or read as one whose JSON has no `null` where a number belongs and
 // reads back to the same value. Nothing may panic.
