@@ -398,3 +398,27 @@ fn noise_pictures_are_refused_with_the_edge_cap() {
         assert!(det.is_ok(), "{:?}", det.err());
     }
 }
+
+/// Regression: commands that still print with `println!` (here `bench accuracy`) panicked on a
+/// full stdout (exit 101); the binary's panic hook turns that into exit 2 with the error.
+#[test]
+fn println_on_a_full_stdout_still_exits_2() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let root = common::root();
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(["bench", "accuracy", "--recognizer"])
+        .arg(root.join("golden/recon_reference"))
+        .arg("--suite")
+        .arg(root.join("scenes/bench"))
+        .arg("--json-out")
+        .arg(dir.path().join("a.json"))
+        .stdout(full)
+        .output()
+        .unwrap();
+    let err = fails_with_2(&o);
+    assert!(err.contains("writing to stdout"), "{err}");
+}

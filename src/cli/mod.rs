@@ -53,6 +53,7 @@ pub enum Command {
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {
     headless::quiet_device_select_without_session();
+    stdout::exit_cleanly_on_stdout_panics();
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,

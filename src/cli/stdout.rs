@@ -27,6 +27,30 @@ pub fn is_stdout_closed(err: &anyhow::Error) -> bool {
     err.chain().any(|c| c.is::<StdoutClosed>())
 }
 
+/// The safety net for any `println!` left (a command another branch adds): the standard
+/// library panics with "failed printing to stdout"; this hook turns that panic into the same
+/// outcome as [`write_stdout`] (quiet exit 0 for a closed pipe, exit 2 with the error
+/// otherwise) and leaves every other panic to the default hook. Install it first in `main`.
+pub fn exit_cleanly_on_stdout_panics() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        let Some(cause) = payload.strip_prefix("failed printing to stdout: ") else {
+            return default(info);
+        };
+        if cause.contains("Broken pipe") {
+            std::process::exit(0);
+        }
+        eprintln!("error: writing to stdout\n  caused by: {cause}");
+        std::process::exit(2);
+    }));
+}
+
 /// `println!` that returns `anyhow::Result<()>` instead of panicking (see the module doc).
 macro_rules! outln {
     ($($arg:tt)*) => {
