@@ -248,6 +248,10 @@ fn generate_errors_carry_their_own_fix() {
         "{err}"
     );
     assert!(!err.contains("disk space"), "{err}");
+    let file = write(dir.path(), "a_file", b"");
+    let err = fails_with_2(&generate(&file, &["--count", "2"]));
+    assert!(err.contains("give a directory"), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
 }
 
 /// Regression: two `generate` runs into one folder deleted each other's temporary files; the

@@ -158,23 +158,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     report(&summary, &opts, started.elapsed().as_secs_f64())
 }
 
-/// The error with a fix that fits it: only an interrupted write (a full disk, a read-only or
-/// vanished folder) is fixed by re-running the same command; bad options, a dataset written
-/// with other options and a concurrent writer carry their own fix in their message.
+/// The error with a fix that fits it: an interrupted write is fixed by its cause (free disk
+/// space, a writable folder, a directory as `-o`) and resumed by re-running the same command;
+/// bad options, a dataset written with other options and a concurrent writer carry their own
+/// fix in their message.
 fn with_fix(e: DatasetError, out: &std::path::Path) -> anyhow::Error {
-    let resumable = matches!(
-        e,
-        DatasetError::Io { .. } | DatasetError::Scene(SceneError::Io { .. })
-    );
+    let io_kind = match &e {
+        DatasetError::Io { source, .. } => Some(source.kind()),
+        DatasetError::Scene(SceneError::Io { source, .. }) => Some(source.kind()),
+        _ => None,
+    };
     let what = format!("generating {}", out.display());
-    if resumable {
-        anyhow::Error::new(e).context(format!(
-            "{what} (fix the cause, e.g. free disk space, and re-run the same command: finished \
-             scenes are kept)"
-        ))
-    } else {
-        anyhow::Error::new(e).context(what)
-    }
+    let Some(kind) = io_kind else {
+        return anyhow::Error::new(e).context(what);
+    };
+    use std::io::ErrorKind as K;
+    let fix = match kind {
+        K::StorageFull | K::QuotaExceeded => "free disk space",
+        K::PermissionDenied | K::ReadOnlyFilesystem => "make the folder writable",
+        K::AlreadyExists | K::NotADirectory => "give a directory (new or this dataset's) as -o",
+        _ => "fix the cause above",
+    };
+    anyhow::Error::new(e).context(format!(
+        "{what} ({fix}, then re-run the same command: finished scenes are kept)"
+    ))
 }
 
 fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) -> anyhow::Result<()> {
