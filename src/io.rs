@@ -38,8 +38,27 @@ pub fn temp_path(path: &Path) -> PathBuf {
 /// byte-order mark is named as such (JSON forbids it; many Windows editors add it) and invalid
 /// UTF-8 gives the byte offset of the first bad byte. Both are `InvalidData` errors.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
-    text_from_bytes(std::fs::read(path)?)
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_TEXT_BYTES + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "is larger than {} MiB, more than any scene, camera or drawing file (a million \
+                 blocks take about 60 MiB); give the right file",
+                MAX_TEXT_BYTES >> 20
+            ),
+        ));
+    }
+    text_from_bytes(bytes)
 }
+
+/// Largest text input read, bytes (128 MiB): reading stops there, so `/dev/zero` or an endless
+/// pipe given as a scene is an error, not an exhausted memory.
+pub const MAX_TEXT_BYTES: u64 = 128 << 20;
 
 /// The checks of [`read_text`] on bytes already read.
 pub fn text_from_bytes(bytes: Vec<u8>) -> std::io::Result<String> {

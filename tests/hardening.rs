@@ -426,3 +426,22 @@ fn println_on_a_full_stdout_still_exits_2() {
     let err = fails_with_2(&o);
     assert!(err.contains("writing to stdout"), "{err}");
 }
+
+/// Regression: an endless input (`/dev/zero` as the scene) was read until memory ran out; text
+/// inputs stop at 128 MiB with an error naming the file.
+#[test]
+fn endless_inputs_stop_at_the_size_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("z.glb");
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        "/dev/zero",
+        "-o",
+        glb.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("/dev/zero") && err.contains("128 MiB"),
+        "{err}"
+    );
+    assert!(!glb.exists());
+}
