@@ -232,7 +232,8 @@ fn generate(dir: &Path, extra: &[&str]) -> Output {
 }
 
 /// Regression: every `generate` error said "fix the cause, e.g. free disk space", also for
-/// `--count 0`, options differing from the existing dataset and a concurrent writer.
+/// `--count 0`, options differing from the existing dataset and a concurrent writer; and
+/// `--jobs 1000000` hung spawning threads.
 #[test]
 fn generate_errors_carry_their_own_fix() {
     let dir = tempfile::tempdir().unwrap();
@@ -248,6 +249,11 @@ fn generate_errors_carry_their_own_fix() {
         "{err}"
     );
     assert!(!err.contains("disk space"), "{err}");
+    let many = [
+        "generate", "--views", "", "--count", "2", "--jobs", "1000000", "-o",
+    ];
+    let err = fails_with_2(&blockworld(&[&many[..], &[ds.to_str().unwrap()]].concat()));
+    assert!(err.contains("--jobs 1000000: at most 1024"), "{err}");
     let file = write(dir.path(), "a_file", b"");
     let err = fails_with_2(&generate(&file, &["--count", "2"]));
     assert!(err.contains("give a directory"), "{err}");

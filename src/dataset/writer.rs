@@ -140,8 +140,18 @@ fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
             "at least one family is needed".into(),
         ));
     }
+    if opts.jobs > MAX_JOBS {
+        return Err(DatasetError::Options(format!(
+            "--jobs {}: at most {MAX_JOBS} worker threads (0 = one per core)",
+            opts.jobs
+        )));
+    }
     Ok(())
 }
+
+/// Most worker threads a run starts: `--jobs 1000000` made rayon spawn threads until the run
+/// hung; no machine this runs on has more cores than this.
+pub const MAX_JOBS: usize = 1024;
 
 /// Writes `dataset.json`, or checks that the one there matches these options.
 fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), DatasetError> {
