@@ -448,20 +448,7 @@ pub fn merge_shards_with_progress(
         path: dir.to_path_buf(),
         message,
     };
-    let options_path = dir.join(DATASET_FILE);
-    let options: Value = serde_json::from_str(
-        &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
-    )
-    .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
-    let count = match &options["count"] {
-        Value::Null => return Err(merge_err(format!("{DATASET_FILE} has no count"))),
-        c => c.as_u64().filter(|&c| c >= 1).ok_or_else(|| {
-            merge_err(format!(
-                "{DATASET_FILE} has count {c}, not a whole number of at least 1; restore the \
-                 dataset.json that `blockworld generate` wrote"
-            ))
-        })?,
-    };
+    let count = claimed_count(dir)?;
     let shards = find_shard_manifests(dir)?;
     let n = check_shard_set(&shards).map_err(merge_err)?;
     // Memory follows the manifests on disk, never the count claimed in dataset.json.
@@ -496,18 +483,50 @@ pub fn merge_shards_with_progress(
         )));
     }
     let entries: Vec<ManifestEntry> = entries.into_values().collect();
-    let checked = AtomicU64::new(0);
-    entries.par_iter().try_for_each(|e| {
-        verify_entry(dir, e)?;
-        progress(checked.fetch_add(1, Ordering::Relaxed) + 1, count);
-        Ok::<(), DatasetError>(())
-    })?;
+    verify_entries(dir, &entries, progress)?;
     let manifest = dir.join(MANIFEST_NAME);
     write_atomic(&manifest, manifest_text(&entries).as_bytes()).map_err(io_err(&manifest))?;
     Ok(MergeSummary {
         shards: n,
         scenes: count,
         manifest,
+    })
+}
+
+/// The scene count `dataset.json` claims: a whole number of at least 1.
+fn claimed_count(dir: &Path) -> Result<u64, DatasetError> {
+    let merge_err = |message: String| DatasetError::Merge {
+        path: dir.to_path_buf(),
+        message,
+    };
+    let options_path = dir.join(DATASET_FILE);
+    let options: Value = serde_json::from_str(
+        &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
+    )
+    .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
+    match &options["count"] {
+        Value::Null => Err(merge_err(format!("{DATASET_FILE} has no count"))),
+        c => c.as_u64().filter(|&c| c >= 1).ok_or_else(|| {
+            merge_err(format!(
+                "{DATASET_FILE} has count {c}, not a whole number of at least 1; restore the \
+                 dataset.json that `blockworld generate` wrote"
+            ))
+        }),
+    }
+}
+
+/// Checks every entry's files against their sha256 in parallel, reporting each scene done.
+fn verify_entries(
+    dir: &Path,
+    entries: &[ManifestEntry],
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<(), DatasetError> {
+    let checked = AtomicU64::new(0);
+    let total = entries.len() as u64;
+    entries.par_iter().try_for_each(|e| {
+        verify_entry(dir, e)?;
+        progress(checked.fetch_add(1, Ordering::Relaxed) + 1, total);
+        Ok(())
     })
 }
 
