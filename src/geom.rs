@@ -18,6 +18,31 @@ pub use glam::{DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2, Vec3, 
 /// same tolerance serves validation, ground truth and settling (README "Conventions").
 pub const CONTACT_TOL_MM: f64 = 0.05;
 
+/// Half the side of the world's square floor, mm: every block vertex must have |x| and |z| at
+/// most this, and y in `0..=WORLD_HEIGHT_MM` (README "Conventions", world extent). It is the
+/// physics floor (a 20 m square, `physics`), and it keeps every coordinate far inside f32's
+/// range, so cameras, pictures and glTF nodes stay finite (the renderer works in f32).
+pub const WORLD_HALF_EXTENT_MM: f64 = 10_000.0;
+
+/// The world's height, mm: no block vertex lies above this (README "Conventions").
+pub const WORLD_HEIGHT_MM: f64 = 10_000.0;
+
+/// Which world bound a point breaks, as text such as `"x = 12000 mm is beyond +/-10000 mm"`;
+/// `None` when the point lies in the world (see [`WORLD_HALF_EXTENT_MM`]).
+pub fn outside_world(p_mm: DVec3) -> Option<String> {
+    let h = WORLD_HALF_EXTENT_MM;
+    if p_mm.x.abs() > h {
+        return Some(format!("x = {} mm is beyond +/-{h} mm", p_mm.x));
+    }
+    if p_mm.z.abs() > h {
+        return Some(format!("z = {} mm is beyond +/-{h} mm", p_mm.z));
+    }
+    if p_mm.y > WORLD_HEIGHT_MM {
+        return Some(format!("y = {} mm is above {WORLD_HEIGHT_MM} mm", p_mm.y));
+    }
+    None
+}
+
 /// The exact isometric elevation, atan(1/sqrt(2)) = 35.26438968 degrees. "35.264" is a
 /// rounding of this angle; using the rounded value makes coincident points drift 0.001 px
 /// apart (README "Conventions").

@@ -34,9 +34,68 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp.{}.{unique:016x}", std::process::id()))
 }
 
+/// Reads a UTF-8 text file (scene, camera, drawing) with errors a user can act on: a leading
+/// byte-order mark is named as such (JSON forbids it; many Windows editors add it) and invalid
+/// UTF-8 gives the byte offset of the first bad byte. Both are `InvalidData` errors.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_TEXT_BYTES + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "is larger than {} MiB, more than any scene, camera or drawing file (a million \
+                 blocks take about 60 MiB); give the right file",
+                MAX_TEXT_BYTES >> 20
+            ),
+        ));
+    }
+    text_from_bytes(bytes)
+}
+
+/// Largest text input read, bytes (128 MiB): reading stops there, so `/dev/zero` or an endless
+/// pipe given as a scene is an error, not an exhausted memory.
+pub const MAX_TEXT_BYTES: u64 = 128 << 20;
+
+/// The checks of [`read_text`] on bytes already read.
+pub fn text_from_bytes(bytes: Vec<u8>) -> std::io::Result<String> {
+    const BOM: &[u8] = b"\xEF\xBB\xBF";
+    let invalid = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidData, m);
+    if bytes.starts_with(BOM) {
+        return Err(invalid(
+            "starts with a UTF-8 byte-order mark (BOM, bytes EF BB BF), which JSON does not allow; \
+             save the file as UTF-8 without BOM"
+                .to_string(),
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let byte = e.as_bytes()[at];
+        invalid(format!(
+            "is not UTF-8: byte 0x{byte:02X} at byte offset {at} is invalid; save the file as UTF-8"
+        ))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bom_and_invalid_utf8_are_named_with_the_offset() {
+        let bom = text_from_bytes(b"\xEF\xBB\xBF{}".to_vec())
+            .unwrap_err()
+            .to_string();
+        assert!(bom.contains("byte-order mark"), "{bom}");
+        let bad = text_from_bytes(b"{\"a\": \xFF}".to_vec())
+            .unwrap_err()
+            .to_string();
+        assert!(bad.contains("0xFF at byte offset 6"), "{bad}");
+        assert_eq!(text_from_bytes(b"{}".to_vec()).unwrap(), "{}");
+    }
 
     #[test]
     fn writes_and_leaves_no_temporary() {

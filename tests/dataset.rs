@@ -396,7 +396,9 @@ fn a_full_disk_stops_cleanly_and_the_rerun_resumes_to_the_same_bytes() {
     let stderr = String::from_utf8_lossy(&failed.stderr);
     assert!(!failed.status.success(), "the 96 KiB disk did not fill up");
     assert!(
-        stderr.contains("No space left on device") && stderr.contains(full.to_str().unwrap()),
+        stderr.contains("No space left on device")
+            && stderr.contains(full.to_str().unwrap())
+            && stderr.contains("free disk space, then re-run the same command"),
         "{stderr}"
     );
     let files = tree(&full);

@@ -25,13 +25,13 @@ pub fn read_picture(path: &Path) -> anyhow::Result<GrayImage> {
 /// Reads and checks a `camera_<view>.json`.
 pub fn read_camera(path: &Path) -> anyhow::Result<Camera> {
     let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
     parse_camera_json(&text).with_context(|| format!("{}", path.display()))
 }
 
 /// Reads and checks a line drawing.
 pub fn read_drawing(path: &Path) -> anyhow::Result<LineDrawing> {
     let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
     LineDrawing::from_json(&text).with_context(|| format!("{}", path.display()))
 }

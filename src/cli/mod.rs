@@ -1,8 +1,12 @@
 //! The command line (clap derive): parse, then run one subcommand. The only module that reads
 //! argv or the environment (`SLURM_ARRAY_TASK_ID`, `JOB_COMPLETION_INDEX`).
 
+#[macro_use]
+pub mod stdout;
 mod commands;
 pub mod files;
+mod headless;
+pub mod progress;
 pub mod view_args;
 
 use clap::{Parser, Subcommand};
@@ -58,13 +62,22 @@ pub enum Command {
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {
+    headless::quiet_device_select_without_session();
+    stdout::exit_cleanly_on_stdout_panics();
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(err) if stdout::is_stdout_closed(&err) => std::process::ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err}");
-            for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+            let mut last = err.to_string();
+            for cause in err.chain().skip(1).map(|c| c.to_string()) {
+                // An error that already prints its source (`X: Is a directory`) is followed by
+                // that source in the chain: print each message once.
+                if !last.contains(&cause) {
+                    eprintln!("  caused by: {cause}");
+                }
+                last = cause;
             }
             std::process::ExitCode::from(2)
         }

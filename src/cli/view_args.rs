@@ -44,15 +44,32 @@ pub struct ViewArgs {
 
 impl ViewArgs {
     /// The corner views asked for.
+    /// A view named twice is an error (it would be rendered and written twice); an empty list
+    /// is allowed here (`generate --views ""` writes scene.json only), see
+    /// [`ViewArgs::some_corner_views`].
     pub fn corner_views(&self) -> anyhow::Result<Vec<CornerView>> {
-        self.views
-            .iter()
-            .filter(|v| !v.trim().is_empty())
-            .map(|v| {
-                CornerView::parse(v)
-                    .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
-            })
-            .collect()
+        let mut views: Vec<CornerView> = Vec::new();
+        for v in self.views.iter().filter(|v| !v.trim().is_empty()) {
+            let view = CornerView::parse(v)
+                .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))?;
+            if views.contains(&view) {
+                bail!(
+                    "--views: {} is given twice; name each view once",
+                    view.name()
+                );
+            }
+            views.push(view);
+        }
+        Ok(views)
+    }
+
+    /// The corner views asked for, at least one (for commands whose only output is views).
+    pub fn some_corner_views(&self) -> anyhow::Result<Vec<CornerView>> {
+        let views = self.corner_views()?;
+        if views.is_empty() {
+            bail!("--views: no view given; name one or more of ne, se, sw, nw");
+        }
+        Ok(views)
     }
 
     /// The backend asked for.

@@ -63,6 +63,14 @@ pub enum DatasetError {
         /// What differs.
         detail: String,
     },
+    /// Another run is writing this dataset (or this shard of it).
+    #[error("{path} is locked: another `blockworld generate` ({holder}) is writing this dataset; wait for it to finish, or write into another directory (shards of one dataset may run side by side with --shard I/N)", path = path.display())]
+    Locked {
+        /// The lock file.
+        path: PathBuf,
+        /// Who holds it ("pid P on host H").
+        holder: String,
+    },
     /// Views requested but no renderer given.
     #[error(
         "views were requested but no renderer is available; pass --views \"\" for scene.json only"

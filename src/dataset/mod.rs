@@ -10,6 +10,7 @@
 mod error;
 mod families;
 mod generate;
+mod lock;
 mod manifest;
 mod shard;
 mod writer;
@@ -20,6 +21,6 @@ pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpe
 pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 pub use shard::{Shard, ShardError};
 pub use writer::{
-    generate_dataset, merge_shards, DatasetOptions, GenerateSummary, MergeSummary,
-    SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE,
+    generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,
+    MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE,
 };

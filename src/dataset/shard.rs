@@ -56,6 +56,16 @@ impl Shard {
         self.count == 1
     }
 
+    /// How many of the scenes `0..total` belong to this shard (arithmetic, so a huge `total`
+    /// costs nothing).
+    pub fn len(&self, total: u64) -> u64 {
+        if self.index >= total {
+            0
+        } else {
+            (total - 1 - self.index) / self.count + 1
+        }
+    }
+
     /// The scene indices of this shard among `0..total`, ascending.
     pub fn indices(&self, total: u64) -> impl Iterator<Item = u64> + '_ {
         (self.index..total).step_by(self.count as usize)
@@ -65,6 +75,19 @@ impl Shard {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn len_counts_the_indices_without_walking_them() {
+        for (i, n, total) in [(0, 1, 23), (3, 4, 23), (2, 4, 23), (5, 7, 3), (0, 2, 0)] {
+            let s = Shard::new(i, n).unwrap();
+            assert_eq!(
+                s.len(total),
+                s.indices(total).count() as u64,
+                "{i}/{n} of {total}"
+            );
+        }
+        assert_eq!(Shard::WHOLE.len(u64::MAX), u64::MAX);
+    }
 
     #[test]
     fn shards_are_disjoint_and_cover_everything() {

@@ -103,8 +103,10 @@ pub struct GenerateSummary {
     pub times: StageTimes,
     /// The manifest written (`manifest.jsonl` or the shard's).
     pub manifest: PathBuf,
-    /// This run's manifest entries in index order.
-    pub entries: Vec<ManifestEntry>,
+    /// Scenes in this run's manifest (generated plus kept).
+    pub scenes: u64,
+    /// Blocks in those scenes.
+    pub blocks: u64,
 }
 
 /// Per-scene outcome inside a run.
@@ -175,8 +177,18 @@ fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
             "at least one family is needed".into(),
         ));
     }
+    if opts.jobs > MAX_JOBS {
+        return Err(DatasetError::Options(format!(
+            "--jobs {}: at most {MAX_JOBS} worker threads (0 = one per core)",
+            opts.jobs
+        )));
+    }
     Ok(())
 }
+
+/// Most worker threads a run starts: `--jobs 1000000` made rayon spawn threads until the run
+/// hung; no machine this runs on has more cores than this.
+pub const MAX_JOBS: usize = 1024;
 
 /// Writes `dataset.json`, or checks that the one there matches these options.
 fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), DatasetError> {
@@ -336,9 +348,15 @@ fn produce_scene(
     })
 }
 
+/// Scenes handed to the worker threads at once: memory stays bounded whatever `--count`
+/// (README "Settling and datasets": generation streams).
+const CHUNK_SCENES: usize = 1024;
+
 /// Generates (or resumes) this shard of the dataset in `dir`, in parallel on `opts.jobs`
 /// threads, rendering through the one shared `renderer`. `progress(done, total)` is called
-/// after each scene. Writes the shard's manifest last.
+/// after each scene. Holds the dataset lock (a second writer of the same scenes is refused),
+/// streams the scenes in chunks of [`CHUNK_SCENES`] and their manifest lines into a temporary
+/// file that is renamed into place last, so memory does not grow with `opts.count`.
 pub fn generate_dataset(
     dir: &Path,
     opts: &DatasetOptions,
@@ -350,6 +368,7 @@ pub fn generate_dataset(
         return Err(DatasetError::NoRenderer);
     }
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    let _lock = super::lock::lock_dataset(dir, opts.shard)?;
     let manifest_name = if opts.shard.is_whole() {
         MANIFEST_NAME.to_string()
     } else {
@@ -357,51 +376,96 @@ pub fn generate_dataset(
     };
     remove_temporaries(dir, Some(&manifest_name))?;
     write_or_check_dataset_json(dir, opts)?;
-    let specs: Vec<SceneSpec> = opts
-        .shard
-        .indices(opts.count)
-        .map(|i| SceneSpec::new(opts.seed, i, &opts.families))
-        .collect();
-    let total = specs.len() as u64;
-    let done = AtomicU64::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs)
         .build()
         .map_err(|e| DatasetError::Options(format!("--jobs: {e}")))?;
-    let outcomes: Vec<SceneOutcome> = pool.install(|| {
-        specs
-            .par_iter()
-            .map(|spec| {
-                let out = produce_scene(dir, spec, opts, renderer);
-                progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                out
-            })
-            .collect::<Result<Vec<_>, _>>()
-    })?;
+    let manifest = dir.join(manifest_name);
+    let tmp = crate::io::temp_path(&manifest);
+    let result = stream_scenes(dir, opts, renderer, progress, &pool, &tmp).and_then(|mut s| {
+        std::fs::rename(&tmp, &manifest).map_err(io_err(&manifest))?;
+        s.manifest = manifest.clone();
+        Ok(s)
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Produces the shard's scenes chunk by chunk and appends their manifest lines, in index
+/// order, to `manifest_tmp`.
+fn stream_scenes(
+    dir: &Path,
+    opts: &DatasetOptions,
+    renderer: Option<&Renderer>,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    pool: &rayon::ThreadPool,
+    manifest_tmp: &Path,
+) -> Result<GenerateSummary, DatasetError> {
+    use std::io::Write;
+    let file = std::fs::File::create(manifest_tmp).map_err(io_err(manifest_tmp))?;
+    let mut lines = std::io::BufWriter::new(file);
+    let total = opts.shard.len(opts.count);
+    let done = AtomicU64::new(0);
     let mut summary = GenerateSummary {
         generated: 0,
         resumed: 0,
+        scenes: 0,
+        blocks: 0,
         unstable_draws: 0,
         unplaceable_draws: 0,
         times: StageTimes::default(),
-        manifest: dir.join(manifest_name),
-        entries: Vec::with_capacity(outcomes.len()),
+        manifest: PathBuf::new(),
     };
-    for o in outcomes {
+    let mut indices = opts.shard.indices(opts.count);
+    loop {
+        let specs: Vec<SceneSpec> = indices
+            .by_ref()
+            .take(CHUNK_SCENES)
+            .map(|i| SceneSpec::new(opts.seed, i, &opts.families))
+            .collect();
+        if specs.is_empty() {
+            break;
+        }
+        let outcomes: Vec<SceneOutcome> = pool.install(|| {
+            specs
+                .par_iter()
+                .map(|spec| {
+                    let out = produce_scene(dir, spec, opts, renderer);
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                    out
+                })
+                .collect::<Result<Vec<_>, _>>()
+        })?;
+        for o in outcomes {
+            summary.tally(&o);
+            lines
+                .write_all(o.entry.to_line().as_bytes())
+                .map_err(io_err(manifest_tmp))?;
+        }
+    }
+    let file = lines
+        .into_inner()
+        .map_err(|e| io_err(manifest_tmp)(e.into_error()))?;
+    file.sync_data().map_err(io_err(manifest_tmp))?;
+    Ok(summary)
+}
+
+impl GenerateSummary {
+    fn tally(&mut self, o: &SceneOutcome) {
+        self.scenes += 1;
+        self.blocks += o.entry.blocks as u64;
         match o.generated {
             Some((times, unstable, unplaceable)) => {
-                summary.generated += 1;
-                summary.unstable_draws += unstable as u64;
-                summary.unplaceable_draws += unplaceable as u64;
-                summary.times.add(&times);
+                self.generated += 1;
+                self.unstable_draws += unstable as u64;
+                self.unplaceable_draws += unplaceable as u64;
+                self.times.add(&times);
             }
-            None => summary.resumed += 1,
+            None => self.resumed += 1,
         }
-        summary.entries.push(o.entry);
     }
-    let text = manifest_text(&summary.entries);
-    write_atomic(&summary.manifest, text.as_bytes()).map_err(io_err(&summary.manifest))?;
-    Ok(summary)
 }
 
 /// What a merge found.
@@ -418,24 +482,20 @@ pub struct MergeSummary {
 /// Joins `manifest.shard-I-of-N.jsonl` files into `manifest.jsonl`, checking that every shard
 /// and every scene `0..count` is there exactly once and every file has its listed sha256.
 pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
+    merge_shards_with_progress(dir, &|_, _| {})
+}
+
+/// [`merge_shards`], calling `progress(checked, scenes)` as scenes' hashes are checked (the
+/// long part of merging a large dataset).
+pub fn merge_shards_with_progress(
+    dir: &Path,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<MergeSummary, DatasetError> {
     let merge_err = |message: String| DatasetError::Merge {
         path: dir.to_path_buf(),
         message,
     };
-    let options_path = dir.join(DATASET_FILE);
-    let options: Value = serde_json::from_str(
-        &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
-    )
-    .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
-    let count = match &options["count"] {
-        Value::Null => return Err(merge_err(format!("{DATASET_FILE} has no count"))),
-        c => c.as_u64().filter(|&c| c >= 1).ok_or_else(|| {
-            merge_err(format!(
-                "{DATASET_FILE} has count {c}, not a whole number of at least 1; restore the \
-                 dataset.json that `blockworld generate` wrote"
-            ))
-        })?,
-    };
+    let count = claimed_count(dir)?;
     let shards = find_shard_manifests(dir)?;
     let n = check_shard_set(&shards).map_err(merge_err)?;
     // Memory follows the manifests on disk, never the count claimed in dataset.json.
@@ -470,13 +530,50 @@ pub fn merge_shards(dir: &Path) -> Result<MergeSummary, DatasetError> {
         )));
     }
     let entries: Vec<ManifestEntry> = entries.into_values().collect();
-    entries.par_iter().try_for_each(|e| verify_entry(dir, e))?;
+    verify_entries(dir, &entries, progress)?;
     let manifest = dir.join(MANIFEST_NAME);
     write_atomic(&manifest, manifest_text(&entries).as_bytes()).map_err(io_err(&manifest))?;
     Ok(MergeSummary {
         shards: n,
         scenes: count,
         manifest,
+    })
+}
+
+/// The scene count `dataset.json` claims: a whole number of at least 1.
+fn claimed_count(dir: &Path) -> Result<u64, DatasetError> {
+    let merge_err = |message: String| DatasetError::Merge {
+        path: dir.to_path_buf(),
+        message,
+    };
+    let options_path = dir.join(DATASET_FILE);
+    let options: Value = serde_json::from_str(
+        &std::fs::read_to_string(&options_path).map_err(io_err(&options_path))?,
+    )
+    .map_err(|e| merge_err(format!("{DATASET_FILE}: {e}")))?;
+    match &options["count"] {
+        Value::Null => Err(merge_err(format!("{DATASET_FILE} has no count"))),
+        c => c.as_u64().filter(|&c| c >= 1).ok_or_else(|| {
+            merge_err(format!(
+                "{DATASET_FILE} has count {c}, not a whole number of at least 1; restore the \
+                 dataset.json that `blockworld generate` wrote"
+            ))
+        }),
+    }
+}
+
+/// Checks every entry's files against their sha256 in parallel, reporting each scene done.
+fn verify_entries(
+    dir: &Path,
+    entries: &[ManifestEntry],
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<(), DatasetError> {
+    let checked = AtomicU64::new(0);
+    let total = entries.len() as u64;
+    entries.par_iter().try_for_each(|e| {
+        verify_entry(dir, e)?;
+        progress(checked.fetch_add(1, Ordering::Relaxed) + 1, total);
+        Ok(())
     })
 }
 

@@ -16,7 +16,7 @@ mod read;
 pub use axis::EdgeAxis;
 pub use code::{Direction, SixBitCode, HORIZONTAL_TOL_DEG, VERTICAL_TOL_DEG};
 pub use junction::{classify_junction, Junction, ThesisClass, COLLINEAR_TOL_DEG};
-pub use read::DrawingError;
+pub use read::{DrawingError, MAX_POINT_COORD_PX};
 
 use crate::geom::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};

@@ -21,6 +21,13 @@ pub enum DrawingError {
         /// The point's index.
         index: usize,
     },
+    /// A point farther than [`MAX_POINT_COORD_PX`] from the picture's origin: no picture is
+    /// that large, and such values overflow when written (`null` in the JSON).
+    #[error("point {index} has a coordinate beyond +/-{max} px, outside any picture", max = MAX_POINT_COORD_PX)]
+    OutOfRange {
+        /// The point's index.
+        index: usize,
+    },
     /// A line naming a point that does not exist, or a line from a point to itself.
     #[error("line {index} joins points {a} and {b}, but the drawing has {points} points (indices 0..{points}, two different ones)")]
     BadLine {
@@ -62,6 +69,10 @@ pub enum DrawingError {
         lines: usize,
     },
 }
+
+/// Largest coordinate a drawing's point may have, px: over a hundred times the largest picture
+/// side (8192 px), far below where writing overflows.
+pub const MAX_POINT_COORD_PX: f64 = 1e6;
 
 #[derive(Deserialize)]
 struct DrawingFile {
@@ -114,6 +125,10 @@ impl LineDrawing {
     fn check_indices(&self) -> Result<(), DrawingError> {
         if let Some(index) = self.points.iter().position(|p| !p.is_finite()) {
             return Err(DrawingError::NotFinite { index });
+        }
+        let far = |p: &DVec2| p.abs().max_element() > MAX_POINT_COORD_PX;
+        if let Some(index) = self.points.iter().position(far) {
+            return Err(DrawingError::OutOfRange { index });
         }
         let n = self.points.len();
         for (index, &[a, b]) in self.lines.iter().enumerate() {
@@ -172,6 +187,20 @@ mod tests {
         // Point 1 has a left-down and a left-up line.
         assert_eq!(d.codes[1].0, (1 << 3) | (1 << 2));
         assert_eq!(LineDrawing::from_json(&d.to_json()).unwrap(), d);
+    }
+
+    /// Regression: a point at x = 1e308 px read fine and was written back as `null` (found by
+    /// the drawing mutants).
+    #[test]
+    fn huge_coordinates_are_refused() {
+        let far = SQUARE.replace("[10, 10]", "[1e308, 10]");
+        let err = LineDrawing::from_json(&far).unwrap_err();
+        assert_eq!(err, DrawingError::OutOfRange { index: 1 });
+        let edge = SQUARE.replace("[10, 10]", "[-1e6, 10]");
+        assert!(!LineDrawing::from_json(&edge)
+            .unwrap()
+            .to_json()
+            .contains("null"));
     }
 
     #[test]

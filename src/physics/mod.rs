@@ -214,9 +214,10 @@ fn build_world(scene: &Scene, params: &SettleParams) -> Result<SceneWorld, Physi
     world.gravity = Vector::new(0.0, -9.81, 0.0);
     world.integration_parameters = integration_parameters(params);
     let floor_half_m = 1.0f32;
+    let floor_side_half_m = (crate::geom::WORLD_HALF_EXTENT_MM / 1000.0) as f32;
     world.insert(
         RigidBodyBuilder::fixed().translation(Vector::new(0.0, -floor_half_m, 0.0)),
-        ColliderBuilder::cuboid(floor_half_m * 10.0, floor_half_m, floor_half_m * 10.0)
+        ColliderBuilder::cuboid(floor_side_half_m, floor_half_m, floor_side_half_m)
             .friction(params.friction as f32),
     );
     let layers = drop_layers(scene);

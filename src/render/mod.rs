@@ -127,7 +127,10 @@ pub struct RenderedView {
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// No adapter for the requested backend.
-    #[error("no usable {backend} graphics adapter: {detail}. Install lavapipe (Mesa's CPU Vulkan driver): `apt-get install -y mesa-vulkan-drivers libvulkan1`, or try `--backend gl` (Mesa llvmpipe through EGL)")]
+    #[error(
+        "no usable {backend} graphics adapter: {detail}. {}",
+        no_adapter_hint(backend)
+    )]
     NoAdapter {
         /// "Vulkan" or "GL".
         backend: &'static str,
@@ -140,6 +143,18 @@ pub enum RenderError {
     /// Options that cannot be rendered (size, MSAA count).
     #[error("invalid render options: {0}")]
     Options(String),
+}
+
+/// What to install or try when `backend` ("Vulkan" or "GL") has no adapter (README
+/// "Rendering"): the other backend is suggested, never the one that just failed.
+fn no_adapter_hint(backend: &str) -> &'static str {
+    if backend == "GL" {
+        "Install Mesa's EGL and GL drivers (llvmpipe): `apt-get install -y libegl1 libegl-mesa0 \
+         libgl1-mesa-dri`, or use the default `--backend vulkan` (lavapipe)"
+    } else {
+        "Install lavapipe (Mesa's CPU Vulkan driver): `apt-get install -y mesa-vulkan-drivers \
+         libvulkan1`, or try `--backend gl` (Mesa llvmpipe through EGL)"
+    }
 }
 
 /// Gray level of the background (where neither the floor nor a block is seen).
@@ -248,13 +263,24 @@ impl Renderer {
         self.gpu.adapter_info()
     }
 
-    fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
+    /// Checks options against this device's limits before anything is rendered: each side at
+    /// most the largest texture, and the readback of gray, depth and ids (5 bytes per pixel)
+    /// within the largest buffer; the error says which sizes work.
+    pub fn check_options(&self, opts: &RenderOptions) -> Result<(), RenderError> {
         opts.validate()?;
         let [w, h] = opts.camera.size_px;
         let max = self.gpu.max_texture_px();
         if w > max || h > max {
             return Err(RenderError::Options(format!(
                 "picture size {w}x{h} px: each side must be 1..={max} on this device"
+            )));
+        }
+        if let Err(side) = self.gpu.readback_fits([w, h]) {
+            return Err(RenderError::Options(format!(
+                "picture size {w}x{h} px is too large for this device: its largest buffer \
+                 cannot hold the picture with its depth and ids (5 bytes per pixel); use at \
+                 most about {} Mpx, e.g. {side}x{side}",
+                (side as u64 * side as u64) / 1_000_000
             )));
         }
         Ok(())
@@ -303,6 +329,31 @@ pub fn add_sensor_noise(gray: &mut GrayImage, sigma_levels: f64, seed: u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression: after `--backend gl` failed, the hint suggested `--backend gl` and named the
+    /// Vulkan packages.
+    #[test]
+    fn no_adapter_hint_suggests_the_other_backend() {
+        let gl = RenderError::NoAdapter {
+            backend: "GL",
+            detail: "none".into(),
+        }
+        .to_string();
+        assert!(
+            gl.contains("--backend vulkan") && !gl.contains("--backend gl"),
+            "{gl}"
+        );
+        assert!(!gl.contains("mesa-vulkan-drivers"), "{gl}");
+        let vk = RenderError::NoAdapter {
+            backend: "Vulkan",
+            detail: "none".into(),
+        }
+        .to_string();
+        assert!(
+            vk.contains("--backend gl") && vk.contains("mesa-vulkan-drivers"),
+            "{vk}"
+        );
+    }
 
     #[test]
     fn noise_is_deterministic_per_seed_and_view() {

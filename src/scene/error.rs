@@ -52,6 +52,22 @@ pub enum SceneError {
         /// Block index in the file (0-based).
         index: usize,
     },
+    /// A scene file without blocks (reconstructions may be empty: nothing reconstructed).
+    #[error("{source_name}: `blocks` is empty; a scene needs at least one block")]
+    NoBlocks {
+        /// The file or source name.
+        source_name: String,
+    },
+    /// A block reaching outside the world (README "Conventions": |x|, |z| <= 10 m, y <= 10 m).
+    #[error("{source_name}: block {index} lies outside the world: {message}; the world is |x|, |z| <= {half} mm and 0 <= y <= {height} mm, move the block inside", half = crate::geom::WORLD_HALF_EXTENT_MM, height = crate::geom::WORLD_HEIGHT_MM)]
+    OutsideWorld {
+        /// The file or source name.
+        source_name: String,
+        /// Block index in the file (0-based).
+        index: usize,
+        /// Which coordinate of which vertex is out, with its value.
+        message: String,
+    },
     /// A block reaching below the floor plane y = 0.
     #[error("{source_name}: block {index} sinks {depth_mm:.3} mm below the floor (y = 0); raise its centre")]
     BelowFloor {

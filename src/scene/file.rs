@@ -64,6 +64,11 @@ pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
             ),
         });
     }
+    if blocks.is_empty() {
+        return Err(SceneError::NoBlocks {
+            source_name: source_name.to_string(),
+        });
+    }
     let scene = Scene {
         name: file.name,
         blocks,
@@ -87,6 +92,7 @@ pub fn parse_reconstruction(text: &str, source_name: &str) -> Result<Reconstruct
                 index,
             });
         }
+        super::check_in_world(b, index, source_name)?;
     }
     if let Some(leaf) = file
         .csg
@@ -119,7 +125,7 @@ pub fn read_reconstruction(path: &Path) -> Result<Reconstruction, SceneError> {
 }
 
 fn read_text(path: &Path) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    crate::io::read_text(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
     })
@@ -130,6 +136,7 @@ fn parse_file(text: &str, source_name: &str) -> Result<(SceneFile, Vec<Block>), 
         source_name: source_name.to_string(),
         message: e.to_string(),
     })?;
+    refuse_positional_records(text, source_name)?;
     let blocks = file
         .blocks
         .iter()
@@ -138,6 +145,43 @@ fn parse_file(text: &str, source_name: &str) -> Result<(SceneFile, Vec<Block>), 
         .collect::<Result<Vec<_>, _>>()?;
     Ok((file, blocks))
 }
+
+/// serde's derive also reads a record written as a positional array (`["name", [..]]`), a
+/// form README "Scene files" does not define and no writer produces: the file, each block, and
+/// `expect`/`evidence` must be JSON objects with named fields.
+fn refuse_positional_records(text: &str, source_name: &str) -> Result<(), SceneError> {
+    let value: serde_json::Value = serde_json::from_str(text).map_err(|e| SceneError::Format {
+        source_name: source_name.to_string(),
+        message: e.to_string(),
+    })?;
+    let not_object = |what: String| SceneError::Format {
+        source_name: source_name.to_string(),
+        message: format!("{what} is a JSON array; write it as an object with named fields"),
+    };
+    if !value.is_object() {
+        return Err(not_object("the file".to_string()));
+    }
+    let records = |key: &str| value.get(key).and_then(|v| v.as_array()).cloned();
+    for (i, b) in records("blocks").unwrap_or_default().iter().enumerate() {
+        if !b.is_object() {
+            return Err(not_object(format!("block {i}")));
+        }
+    }
+    for key in ["expect", "evidence"] {
+        if value.get(key).is_some_and(|v| v.is_array()) {
+            return Err(not_object(format!("`{key}`")));
+        }
+    }
+    let views = value.pointer("/evidence/views").and_then(|v| v.as_array());
+    if let Some(i) = views.and_then(|v| v.iter().position(|e| !e.is_object())) {
+        return Err(not_object(format!("evidence view {i}")));
+    }
+    Ok(())
+}
+
+/// A quaternion whose squared length is within this of 1 is kept bit for bit (a normalized
+/// quaternion's rounding error is a few 1e-16).
+const UNIT_QUAT_TOL: f64 = 1e-14;
 
 fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Block, SceneError> {
     let block_type = block_type(&entry.type_id).ok_or_else(|| SceneError::UnknownBlockType {
@@ -168,7 +212,10 @@ fn block_from_entry(entry: &BlockEntry, index: usize, source: &str) -> Result<Bl
                     "rotation [x, y, z, w] must be a unit quaternion (length {len:.6})"
                 )));
             }
-            Orientation::Quaternion(q.normalize())
+            // Normalize only what is not unit to rounding already: normalize() of a normalized
+            // quaternion may move it by an ulp, so written files would not read back the same.
+            let unit = (q.length_squared() - 1.0).abs() <= UNIT_QUAT_TOL;
+            Orientation::Quaternion(if unit { q } else { q.normalize() })
         }
     };
     Ok(Block {
@@ -246,8 +293,19 @@ pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
     parse_scene(&read_text(path)?, &path.display().to_string())
 }
 
-/// Writes a scene file atomically (temporary name, then rename).
+/// Writes a scene file atomically (temporary name, then rename). A block with a non-finite
+/// pose or outside the world is refused, so no `null` ever stands where a number belongs.
 pub fn write_scene(path: &Path, scene: &Scene) -> Result<(), SceneError> {
+    let name = path.display().to_string();
+    for (index, b) in scene.blocks.iter().enumerate() {
+        if !(b.center_mm.is_finite() && b.rotation().is_finite()) {
+            return Err(SceneError::NotFinite {
+                source_name: name,
+                index,
+            });
+        }
+        super::check_in_world(b, index, &name)?;
+    }
     crate::io::write_atomic(path, scene_to_json(scene).as_bytes()).map_err(|source| {
         SceneError::Io {
             path: path.to_path_buf(),
@@ -286,6 +344,76 @@ mod tests {
         let text = TWO_LAYER.replace("\"expect\"", "\"expected\"");
         let err = parse_scene(&text, "x.json").unwrap_err().to_string();
         assert!(err.contains("unknown field `expected`"), "{err}");
+    }
+
+    /// Regression: a scene written as positional arrays (a serde artefact) was accepted.
+    #[test]
+    fn positional_arrays_are_refused() {
+        let whole = r#"["two_layer", [{"type": "b15", "center": [0, 7.5, 0]}]]"#;
+        let err = parse_scene(whole, "x.json").unwrap_err().to_string();
+        assert!(err.contains("the file is a JSON array"), "{err}");
+        let block = r#"{"name": "a", "blocks": [["b15", [0, 7.5, 0]]]}"#;
+        let err = parse_scene(block, "x.json").unwrap_err().to_string();
+        assert!(err.contains("block 0 is a JSON array"), "{err}");
+        let expect = r#"{"name": "a", "blocks": [{"type": "b15", "center": [0, 7.5, 0]}],
+            "expect": [false, "why"]}"#;
+        let err = parse_scene(expect, "x.json").unwrap_err().to_string();
+        assert!(err.contains("`expect` is a JSON array"), "{err}");
+        parse_scene(TWO_LAYER, "x.json").unwrap();
+    }
+
+    /// Regression: an empty `blocks` was read by render, settle and score but refused by export;
+    /// a scene file needs a block, a reconstruction may be empty (nothing reconstructed).
+    #[test]
+    fn scenes_need_a_block_reconstructions_may_be_empty() {
+        let empty = r#"{"name": "a", "blocks": []}"#;
+        let err = parse_scene(empty, "x.json").unwrap_err();
+        assert!(matches!(err, SceneError::NoBlocks { .. }), "{err}");
+        assert!(err.to_string().contains("x.json"), "{err}");
+        assert!(parse_reconstruction(empty, "x.json")
+            .unwrap()
+            .blocks
+            .is_empty());
+    }
+
+    /// Regression: a block at x = 1e308 mm passed validation and the renderer and glTF export
+    /// wrote `null`; blocks outside the world extent are refused, naming the block.
+    #[test]
+    fn blocks_outside_the_world_are_refused() {
+        for (far, axis) in [
+            ("[1e308, 7.5, 0]", "x = "),
+            ("[0, 7.5, -10010]", "z = "),
+            ("[0, 2e4, 0]", "y = "),
+        ] {
+            let text = TWO_LAYER.replace("[0, 22.5, 0]", far);
+            let err = parse_scene(&text, "x.json").unwrap_err();
+            assert!(
+                matches!(err, SceneError::OutsideWorld { index: 1, .. }),
+                "{err}"
+            );
+            assert!(err.to_string().contains(axis), "{err}");
+            let err = parse_reconstruction(&text, "x.json").unwrap_err();
+            assert!(
+                matches!(err, SceneError::OutsideWorld { index: 1, .. }),
+                "{err}"
+            );
+        }
+        let edge = TWO_LAYER.replace("[0, 22.5, 0]", "[9992.5, 7.5, 0]");
+        parse_scene(&edge, "x.json").unwrap();
+    }
+
+    /// Regression: a rotation within the unit tolerance was normalized on every read, so a
+    /// written scene read back an ulp away (found by the scene mutants).
+    #[test]
+    fn near_unit_rotations_read_back_bit_for_bit() {
+        let text = TWO_LAYER.replace(
+            "\"yaw_deg\": 0",
+            "\"rotation\": [0, 0.7071033905688866, 0, 0.7071101717879502]",
+        );
+        let once = parse_scene(&text, "x.json").unwrap();
+        let twice = parse_scene(&scene_to_json(&once), "x.json").unwrap();
+        assert_eq!(scene_to_json(&once), scene_to_json(&twice));
+        assert_eq!(once, twice);
     }
 
     #[test]

@@ -19,7 +19,7 @@ pub use file::{
 };
 pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
-use crate::geom::{bounds3, DVec3, CONTACT_TOL_MM};
+use crate::geom::{bounds3, outside_world, DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
@@ -182,6 +182,7 @@ impl Scene {
                     index,
                 });
             }
+            check_in_world(b, index, source)?;
             let lowest = b
                 .world_vertices()
                 .iter()
@@ -195,8 +196,22 @@ impl Scene {
                 });
             }
         }
+        // Blocks whose bounding boxes are disjoint cannot overlap (the separating-axis test is
+        // exact for convex blocks), so only pairs with touching boxes pay for it: a 5,000-block
+        // grid validated in 78 s with every pair tested.
+        let boxes: Vec<(DVec3, DVec3)> = self
+            .blocks
+            .iter()
+            .map(|b| bounds3(b.world_vertices()).unwrap_or((b.center_mm, b.center_mm)))
+            .collect();
+        let disjoint = |(lo_a, hi_a): (DVec3, DVec3), (lo_b, hi_b): (DVec3, DVec3)| {
+            hi_a.cmplt(lo_b).any() || hi_b.cmplt(lo_a).any()
+        };
         for a in 0..self.blocks.len() {
             for b in a + 1..self.blocks.len() {
+                if disjoint(boxes[a], boxes[b]) {
+                    continue;
+                }
                 let depth = sat::penetration_depth_mm(&self.blocks[a], &self.blocks[b]);
                 if depth > CONTACT_TOL_MM {
                     return Err(SceneError::Overlap {
@@ -212,9 +227,58 @@ impl Scene {
     }
 }
 
+/// Refuses a block with a vertex outside the world extent (README "Conventions"): finite but
+/// huge coordinates would overflow the renderer's f32 and write `null` into cameras and glTF.
+pub(crate) fn check_in_world(b: &Block, index: usize, source: &str) -> Result<(), SceneError> {
+    match b.world_vertices().into_iter().find_map(outside_world) {
+        Some(message) => Err(SceneError::OutsideWorld {
+            source_name: source.to_string(),
+            index,
+            message,
+        }),
+        None => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression: validation ran the separating-axis test on every pair (a 5,000-block grid
+    /// took 78 s); the bounding-box pre-check must still find the first overlapping pair, also
+    /// between turned blocks whose boxes overlap while the blocks only touch.
+    #[test]
+    fn bounding_box_precheck_keeps_every_overlap() {
+        let grid: Vec<Block> = (0..900)
+            .map(|i| {
+                Block::new(
+                    "b15",
+                    DVec3::new((i % 30) as f64 * 15.0, 7.5, (i / 30) as f64 * 15.0),
+                    0.0,
+                )
+            })
+            .collect();
+        let mut scene = Scene::new("grid", grid);
+        scene.validate("g").unwrap();
+        scene
+            .blocks
+            .push(Block::new("b15", DVec3::new(440.0, 7.5, 15.0), 0.0));
+        match scene.validate("g") {
+            Err(SceneError::Overlap { a: 59, b: 900, .. }) => {}
+            other => panic!("expected blocks 59 and 900, got {other:?}"),
+        }
+        // Two b15 turned 45 degrees, 21.3 mm apart along x: the boxes (21.2 mm wide) overlap,
+        // the blocks do not; 20 mm apart they do.
+        let turned = |x: f64| Block::new("b15", DVec3::new(x, 7.5, 0.0), 45.0);
+        Scene::new("t", vec![turned(0.0), turned(21.3)])
+            .validate("t")
+            .unwrap();
+        let close = Scene::new("t", vec![turned(0.0), turned(20.0)]);
+        assert!(matches!(
+            close.validate("t"),
+            Err(SceneError::Overlap { a: 0, b: 1, .. })
+        ));
+    }
 
     #[test]
     fn two_layer_stack_is_valid_and_overlap_is_caught() {

@@ -25,6 +25,15 @@ pub enum VisionError {
         /// The limit per side.
         max: u32,
     },
+    /// Far more edge pixels than any block scene gives (noise, texture): line finding would
+    /// take minutes.
+    #[error("the picture has {edge_px} edge pixels, more than any block scene gives (at most {cap_px}: 200 per pixel of width + height); it looks like noise or texture: smooth it, raise --threshold, or give a rendered view")]
+    TooManyEdges {
+        /// Edge pixels after the threshold.
+        edge_px: u64,
+        /// The cap for this picture size.
+        cap_px: u64,
+    },
     /// The bytes are not a decodable image.
     #[error(
         "not a readable image: {0}; give a PNG (8-bit grayscale, as `blockworld render` writes)"

@@ -126,18 +126,37 @@ fn check_side(w: u32, h: u32) -> Result<(), VisionError> {
 }
 
 /// Runs steps 1-3 on `image` taken by `camera`. An empty or constant picture gives an empty
-/// drawing; a picture of another size than the camera's is an error.
+/// drawing; a picture of another size than the camera's is an error, and so is one with more
+/// edge pixels than any block scene gives ([`MAX_EDGE_PX_PER_SIDE_PX`]).
 pub fn detect_line_drawing(
     image: &GrayImage,
     camera: &Camera,
     opts: &VisionOptions,
 ) -> Result<Detection, VisionError> {
     check_picture(image, camera)?;
-    Ok(detect_with_directions(
-        image,
-        &edge_directions(camera, &EdgeAxis::BLOCK_AXES),
-        opts,
-    ))
+    let (edges, timings) = timed_edges(image, opts);
+    check_edge_count(&edges)?;
+    let directions = edge_directions(camera, &EdgeAxis::BLOCK_AXES);
+    Ok(detect_from_edges(image, edges, &directions, opts, timings))
+}
+
+/// Edge pixels allowed per pixel of picture side (width + height). A line drawing's edge
+/// pixels grow with the picture's side, since its lines are a few pixels wide: over the
+/// accuracy suite's views at 512x480 and 2048x2048 at most 20 (w + h) pixels were edges.
+/// Noise grows with the area (half the pixels of a random picture are edges) and made line
+/// finding superlinear (an 8192x8192 noise picture took 263 s and 2.7 GB), so a picture with
+/// more than 200 (w + h) edge pixels, ten times any block scene, is refused.
+pub const MAX_EDGE_PX_PER_SIDE_PX: u64 = 200;
+
+/// Refuses an edge map with more than [`MAX_EDGE_PX_PER_SIDE_PX`] x (w + h) edge pixels.
+pub fn check_edge_count(edges: &GrayImage) -> Result<(), VisionError> {
+    let (w, h) = edges.dimensions();
+    let cap_px = MAX_EDGE_PX_PER_SIDE_PX * (w as u64 + h as u64);
+    let edge_px = edges.as_raw().iter().filter(|v| **v != 0).count() as u64;
+    if edge_px > cap_px {
+        return Err(VisionError::TooManyEdges { edge_px, cap_px });
+    }
+    Ok(())
 }
 
 /// Steps 1-3 with the three picture directions given (no camera check).
@@ -146,24 +165,44 @@ pub fn detect_with_directions(
     directions: &[(EdgeAxis, EdgeDirection)],
     opts: &VisionOptions,
 ) -> Detection {
-    let mut clock = std::time::Instant::now();
-    let mut lap = || {
-        let ms = clock.elapsed().as_secs_f64() * 1e3;
-        clock = std::time::Instant::now();
-        ms
-    };
+    let (edges, timings) = timed_edges(image, opts);
+    detect_from_edges(image, edges, directions, opts, timings)
+}
+
+fn ms_since(t: std::time::Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Step 1, each of its three parts counted.
+fn timed_edges(image: &GrayImage, opts: &VisionOptions) -> (GrayImage, VisionTimings) {
     let mut timings = VisionTimings::default();
+    let t = std::time::Instant::now();
     let magnitude = sobel_magnitude(image);
-    timings.sobel_ms = lap();
+    timings.sobel_ms = ms_since(t);
+    let t = std::time::Instant::now();
     let smoothed = smooth_3x3(&magnitude, opts.edges.window);
-    timings.smooth_ms = lap();
+    timings.smooth_ms = ms_since(t);
+    let t = std::time::Instant::now();
     let edges = threshold(&smoothed, opts.edges.threshold);
-    timings.threshold_ms = lap();
+    timings.threshold_ms = ms_since(t);
+    (edges, timings)
+}
+
+/// Steps 2-3 on an edge map of `image`, counted into `timings`.
+fn detect_from_edges(
+    image: &GrayImage,
+    edges: GrayImage,
+    directions: &[(EdgeAxis, EdgeDirection)],
+    opts: &VisionOptions,
+    mut timings: VisionTimings,
+) -> Detection {
+    let t = std::time::Instant::now();
     let lines = fit_lines(&edges, directions, &opts.lines);
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
-    timings.lines_ms = lap();
+    timings.lines_ms = ms_since(t);
+    let t = std::time::Instant::now();
     let drawing = find_vertices(&lines, &opts.vertices);
-    timings.vertices_ms = lap();
+    timings.vertices_ms = ms_since(t);
     Detection {
         edges,
         lines,

@@ -39,15 +39,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let scene_path = demo_scene_path();
     let scene = read_scene(&scene_path)
         .with_context(|| format!("reading the demo scene {}", scene_path.display()))?;
-    println!(
+    outln!(
         "demo: {} ({} blocks) from {}",
         scene.name,
         scene.blocks.len(),
         scene_path.display()
-    );
+    )?;
     let settled = settle(&scene, &SettleParams::default())
         .with_context(|| format!("settling {}", scene_path.display()))?;
-    println!(
+    outln!(
         "settle: {} after {} steps (max drift {:.3} mm, max turn {:.3} deg)",
         if settled.report.stable {
             "stable"
@@ -57,7 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         settled.report.steps,
         settled.report.max_drift_mm,
         settled.report.max_turn_deg
-    );
+    )?;
     if !settled.report.stable {
         anyhow::bail!(
             "{} does not rest stably: {}",
@@ -69,16 +69,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let scene = settled.scene;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
-    println!("renderer: {}", renderer.adapter_info());
+    outln!("renderer: {}", renderer.adapter_info())?;
     let views = renderer
         .render_views(&scene, &CornerView::ALL, &RenderOptions::default())
         .with_context(|| format!("rendering {}", scene_path.display()))?;
     super::render::write_and_list(&args.out, &views)?;
     for v in &views {
-        println!("{}", view_summary(v));
+        outln!("{}", view_summary(v))?;
     }
     for v in &views {
-        println!("{}", vision_summary(v, &args.out)?);
+        outln!("{}", vision_summary(v, &args.out)?)?;
     }
     recognize_summary(&scene, &views, &args.out)?;
     let glb_path = args.out.join(format!("{}.glb", scene.name));
@@ -86,12 +86,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
     blockworld::io::write_atomic(&glb_path, &glb)
         .with_context(|| format!("writing {}", glb_path.display()))?;
-    println!(
+    outln!(
         "export: {} blocks as glTF 2.0 -> {} ({} bytes)",
         scene.blocks.len(),
         glb_path.display(),
         glb.len()
-    );
+    )?;
     Ok(())
 }
 

@@ -30,6 +30,9 @@ pub struct Args {
 
 /// Runs `blockworld edges`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    for p in args.output.iter().chain(&args.magnitude) {
+        require_png_name(p)?;
+    }
     let gray = read_picture(&args.view)?;
     let window = if args.trailing_window {
         SmoothWindow::Trailing
@@ -63,12 +66,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         blockworld::io::write_atomic(m, &bytes)
             .with_context(|| format!("writing {}", m.display()))?;
     }
-    println!(
+    outln!(
         "{}: {count} edge pixels (threshold {}) -> {}",
         args.view.display(),
         args.threshold,
         out.display()
-    );
+    )?;
+    Ok(())
+}
+
+/// Both outputs are PNG bytes, so their names must say `.png` (an `e.jpg` holding PNG bytes
+/// misleads every viewer that trusts the extension).
+fn require_png_name(path: &Path) -> anyhow::Result<()> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if ext.as_deref() != Some("png") {
+        anyhow::bail!(
+            "{}: edges writes PNG pictures; give the output a .png name",
+            path.display()
+        );
+    }
     Ok(())
 }
 

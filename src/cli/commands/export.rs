@@ -65,13 +65,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Form::Glb => {
             let glb = files.to_glb().with_context(context)?;
             write_atomic(out, &glb).with_context(|| format!("writing {}", out.display()))?;
-            println!(
+            outln!(
                 "{}: {} blocks -> {} ({} bytes)",
                 args.scene.display(),
                 blocks,
                 out.display(),
                 glb.len()
-            );
+            )?;
         }
         Form::GltfWithBin => {
             let bin_path = out.with_extension("bin");
@@ -85,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .with_context(|| format!("writing {}", bin_path.display()))?;
             write_atomic(out, text.as_bytes())
                 .with_context(|| format!("writing {}", out.display()))?;
-            println!(
+            outln!(
                 "{}: {} blocks -> {} + {} ({} + {} bytes)",
                 args.scene.display(),
                 blocks,
@@ -93,7 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 bin_path.display(),
                 text.len(),
                 bin.len()
-            );
+            )?;
         }
     }
     Ok(())

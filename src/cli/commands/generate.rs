@@ -5,19 +5,18 @@
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
 //! `SLURM_ARRAY_TASK_ID` (minus `SLURM_ARRAY_TASK_MIN`) or Kubernetes' `JOB_COMPLETION_INDEX`.
 
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
 use blockworld::dataset::{
-    generate_dataset, DatasetOptions, Family, GenerateSummary, SceneFileEncoder, Shard,
+    generate_dataset, DatasetError, DatasetOptions, Family, GenerateSummary, SceneFileEncoder,
+    Shard,
 };
 use blockworld::export::scene_to_glb;
 use blockworld::physics::SettleParams;
 use blockworld::render::Renderer;
-use blockworld::scene::Scene;
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use blockworld::scene::{Scene, SceneError};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Options of `blockworld generate`.
@@ -160,6 +159,7 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
     }
     let r = Renderer::new(args.backend()?)
         .context("creating the renderer (pass --views \"\" to write scene.json only)")?;
+    r.check_options(&args.render_options()?).context("--size")?;
     Ok(Some(r))
 }
 
@@ -167,63 +167,50 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = dataset_options(&args)?;
     let renderer = renderer_for(&args.view)?;
-    let total = opts.shard.indices(opts.count).count() as u64;
+    let total = opts.shard.len(opts.count);
     let started = Instant::now();
-    let summary = with_progress(total, |progress| {
+    let summary = with_progress("generate", "scenes", total, |progress| {
         generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
     })
-    .with_context(|| {
-        format!(
-            "generating {} (fix the cause, e.g. free disk space, and re-run the same command: finished scenes are kept)",
-            args.output.display()
-        )
-    })?;
-    report(&summary, &opts, started.elapsed().as_secs_f64());
-    Ok(())
+    .map_err(|e| with_fix(e, &args.output))?;
+    report(&summary, &opts, started.elapsed().as_secs_f64())
 }
 
-/// Runs `f` with a progress callback: an indicatif bar on a terminal, plain log lines (about
-/// every 5%) otherwise.
-pub fn with_progress<T>(total: u64, f: impl FnOnce(&(dyn Fn(u64, u64) + Sync)) -> T) -> T {
-    if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(total);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} scenes  {per_sec}  ETA {eta}  {elapsed_precise}",
-            )
-            .expect("valid template"),
-        );
-        let out = f(&|done, _| bar.set_position(done));
-        bar.finish();
-        out
-    } else {
-        let step = (total / 20).max(1);
-        let started = Instant::now();
-        let last = AtomicU64::new(0);
-        f(&|done, total| {
-            if done % step == 0 || done == total {
-                let prev = last.fetch_max(done, Ordering::Relaxed);
-                if prev < done {
-                    let secs = started.elapsed().as_secs_f64().max(1e-9);
-                    eprintln!(
-                        "generate: {done}/{total} scenes, {:.1} scenes/s",
-                        done as f64 / secs
-                    );
-                }
-            }
-        })
-    }
+/// The error with a fix that fits it: an interrupted write is fixed by its cause (free disk
+/// space, a writable folder, a directory as `-o`) and resumed by re-running the same command;
+/// bad options, a dataset written with other options and a concurrent writer carry their own
+/// fix in their message.
+fn with_fix(e: DatasetError, out: &std::path::Path) -> anyhow::Error {
+    let io_kind = match &e {
+        DatasetError::Io { source, .. } => Some(source.kind()),
+        DatasetError::Scene(SceneError::Io { source, .. }) => Some(source.kind()),
+        _ => None,
+    };
+    let what = format!("generating {}", out.display());
+    let Some(kind) = io_kind else {
+        return anyhow::Error::new(e).context(what);
+    };
+    use std::io::ErrorKind as K;
+    let fix = match kind {
+        K::StorageFull | K::QuotaExceeded => "free disk space",
+        K::PermissionDenied | K::ReadOnlyFilesystem => "make the folder writable",
+        K::AlreadyExists | K::NotADirectory => "give a directory (new or this dataset's) as -o",
+        _ => "fix the cause above",
+    };
+    anyhow::Error::new(e).context(format!(
+        "{what} ({fix}, then re-run the same command: finished scenes are kept)"
+    ))
 }
 
-fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) {
+fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) -> anyhow::Result<()> {
     let shard = if opts.shard.is_whole() {
         String::new()
     } else {
         format!(" (shard {}/{})", opts.shard.index, opts.shard.count)
     };
-    println!(
+    outln!(
         "{} scenes{shard}: {} generated, {} kept from an earlier run; redrew {} unstable and {} unplaceable draws; {:.2} s ({:.1} scenes/s); manifest {}",
-        s.entries.len(),
+        s.scenes,
         s.generated,
         s.resumed,
         s.unstable_draws,
@@ -231,5 +218,5 @@ fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) {
         secs,
         s.generated as f64 / secs.max(1e-9),
         s.manifest.display()
-    );
+    )
 }

@@ -1,6 +1,7 @@
 //! `blockworld render SCENE.json -o DIR`: the four corner views of a scene and their ground
 //! truth (README "Rendering"), written with [`blockworld::output::write_rendered_views`].
 
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
 use blockworld::output::write_rendered_views;
@@ -22,15 +23,22 @@ pub struct Args {
 
 /// Runs `blockworld render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let views = args.view.corner_views()?;
+    let views = args.view.some_corner_views()?;
     let opts = args.view.render_options()?;
     let backend = args.view.backend()?;
     let scene = read_scene(&args.scene)
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
-    let rendered = renderer
-        .render_views(&scene, &views, &opts)
-        .with_context(|| format!("rendering {}", args.scene.display()))?;
+    renderer.check_options(&opts).context("--size")?;
+    let rendered = with_progress("render", "views", views.len() as u64, |progress| {
+        let mut done = Vec::with_capacity(views.len());
+        for v in &views {
+            done.push(renderer.render(&scene, *v, &opts)?);
+            progress(done.len() as u64, views.len() as u64);
+        }
+        Ok::<_, blockworld::render::RenderError>(done)
+    })
+    .with_context(|| format!("rendering {}", args.scene.display()))?;
     write_and_list(&args.out, &rendered)?;
     Ok(())
 }
@@ -43,7 +51,7 @@ pub fn write_and_list(out: &Path, views: &[RenderedView]) -> anyhow::Result<()> 
     let written = write_rendered_views(out, views)
         .with_context(|| format!("writing views into {}", out.display()))?;
     for f in &written {
-        println!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256);
+        outln!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256)?;
     }
     Ok(())
 }

@@ -44,9 +44,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )
     })?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&score)?);
+        outln!("{}", serde_json::to_string_pretty(&score)?)?;
     } else {
-        print!("{}", score_table(&score));
+        out!("{}", score_table(&score))?;
     }
     Ok(())
 }

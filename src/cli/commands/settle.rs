@@ -45,22 +45,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             params.turn_tol_deg
         );
     }
+    if !r.stable {
+        // A drifted scene that no command could read back (a block slid off the floor or into
+        // another) is not written (README "Settling and datasets").
+        settled
+            .scene
+            .validate(&args.output.display().to_string())
+            .with_context(|| {
+                format!(
+                    "{}: the drifted poses do not form a valid scene; nothing written",
+                    args.scene.display()
+                )
+            })?;
+    }
     write_scene(&args.output, &settled.scene)?;
     if r.stable {
-        println!(
+        outln!(
             "{}: stable after {} steps (max drift {:.4} mm, max turn {:.4} deg); wrote {}",
             args.scene.display(),
             r.steps,
             r.max_drift_mm,
             r.max_turn_deg,
             args.output.display()
-        );
+        )?;
     } else {
         eprintln!("warning: {} is not stable:\n{moved}", args.scene.display());
-        println!("wrote the drifted poses to {}", args.output.display());
-        if let Err(e) = settled.scene.validate(&args.output.display().to_string()) {
-            eprintln!("warning: the drifted poses do not validate: {e}");
-        }
+        outln!("wrote the drifted poses to {}", args.output.display())?;
     }
     Ok(())
 }

@@ -44,7 +44,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 p.display()
             );
         }
-        None => print!("{text}"),
+        None => out!("{text}")?,
     }
     Ok(())
 }

@@ -121,6 +121,7 @@ pub struct Gpu {
     uniforms: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     max_texture_px: u32,
+    max_buffer_bytes: u64,
     /// Errors wgpu reported outside any error scope (instead of panicking).
     uncaptured: Arc<Mutex<Vec<String>>>,
     state: Mutex<State>,
@@ -172,6 +173,7 @@ impl Gpu {
         }
         Ok(Gpu {
             max_texture_px: device.limits().max_texture_dimension_2d,
+            max_buffer_bytes: device.limits().max_buffer_size,
             device,
             queue,
             info,
@@ -198,6 +200,24 @@ impl Gpu {
     /// Largest picture side the device accepts, px.
     pub fn max_texture_px(&self) -> u32 {
         self.max_texture_px
+    }
+
+    /// Whether a `size` picture's readback buffer (gray, depth and ids, rows padded) fits the
+    /// device's `max_buffer_size`; otherwise the largest square side that fits, px.
+    pub fn readback_fits(&self, size: [u32; 2]) -> Result<(), u32> {
+        if ReadbackLayout::new(size).total() <= self.max_buffer_bytes {
+            return Ok(());
+        }
+        let (mut lo, mut hi) = (1u32, self.max_texture_px);
+        while lo < hi {
+            let mid = lo + (hi - lo).div_ceil(2);
+            if ReadbackLayout::new([mid, mid]).total() <= self.max_buffer_bytes {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        Err(lo)
     }
 
     /// Draws `vertices` (a triangle list) with `uniforms` into `size` px targets with `msaa`

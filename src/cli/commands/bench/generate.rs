@@ -2,7 +2,8 @@
 //! write) and the time split between the stages (README "Settling and datasets"; target >= 40 scenes/s
 //! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores).
 
-use crate::cli::commands::generate::{checked_options, renderer_for, with_progress};
+use crate::cli::commands::generate::{checked_options, renderer_for};
+use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
 use blockworld::dataset::{generate_dataset, Shard};
@@ -37,7 +38,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let renderer = renderer_for(&args.view)?;
     let dir = std::env::temp_dir().join(format!("blockworld-bench-{}", std::process::id()));
     let started = Instant::now();
-    let result = with_progress(opts.count, |p| {
+    let result = with_progress("bench generate", "scenes", opts.count, |p| {
         generate_dataset(&dir, &opts, renderer.as_ref(), p)
     });
     let wall_s = started.elapsed().as_secs_f64();
@@ -55,7 +56,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let load = std::fs::read_to_string("/proc/loadavg")
         .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into());
-    println!(
+    outln!(
         "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads, load average {load}{}",
         s.generated,
         opts.views.len(),
@@ -63,27 +64,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .as_ref()
             .map(|r| format!(", {}", r.adapter_info()))
             .unwrap_or_default()
-    );
-    println!("| stage | ms per scene (one thread) | share |");
-    println!("|---|---|---|");
+    )?;
+    outln!("| stage | ms per scene (one thread) | share |")?;
+    outln!("|---|---|---|")?;
     for (name, secs) in [
         ("draw + settle", t.settle_s),
         ("render", t.render_s),
         ("write (encode, hash, rename)", t.write_s),
     ] {
-        println!(
+        outln!(
             "| {name} | {:.3} | {:.1}% |",
             secs * 1e3 / n,
             100.0 * secs / busy
-        );
+        )?;
     }
-    let blocks: usize = s.entries.iter().map(|e| e.blocks).sum();
-    println!(
+    let blocks = s.blocks;
+    outln!(
         "wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
         wall_s,
         s.generated as f64 / wall_s.max(1e-12),
         blocks as f64 / n,
         s.unstable_draws
-    );
+    )?;
     Ok(())
 }

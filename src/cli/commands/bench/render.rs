@@ -56,26 +56,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let start = Instant::now();
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     let setup = start.elapsed();
-    println!("adapter: {}", renderer.adapter_info());
+    outln!("adapter: {}", renderer.adapter_info())?;
     if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
-        println!(
+        outln!(
             "load average (1, 5, 15 min) at start: {}",
             load.split_whitespace()
                 .take(3)
                 .collect::<Vec<_>>()
                 .join(" ")
-        );
+        )?;
     }
-    println!(
+    outln!(
         "device setup (instance + adapter + device + pipelines): {:.1} ms",
         ms(setup)
-    );
-    println!(
+    )?;
+    outln!(
         "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (each cell: median / mean wall ms / CPU ms per view)",
         opts.camera.size_px[0], opts.camera.size_px[1], opts.msaa
-    );
-    println!("| blocks | render + readback | + line drawing | render + readback + 3 PNG encodes |");
-    println!("|---|---|---|---|");
+    )?;
+    outln!("| blocks | render + readback | + line drawing | render + readback + 3 PNG encodes |")?;
+    outln!("|---|---|---|---|")?;
     for n in [1, 10, 50] {
         let scene = bench_scene(n);
         scene
@@ -104,12 +104,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(e) = encode_error {
             return Err(e).context("encoding PNGs");
         }
-        println!(
+        outln!(
             "| {n} | {} | {} | {} |",
             pixels.show(),
             full.show(),
             png.show()
-        );
+        )?;
     }
     Ok(())
 }

@@ -107,7 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
         }
     }
-    println!(
+    outln!(
         "vision front end vs ground truth: {} views, {}, noise sigma {}, match within {} px, one core",
         all.views,
         match args.perspective {
@@ -116,32 +116,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
         args.noise,
         args.match_px
-    );
-    println!(
+    )?;
+    outln!(
         "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}",
         "family", "views", "truth", "found", "prec", "recall", "code", "vtx_px", "ang_mean", "ang_max",
         "sobel", "smooth", "thresh", "lines", "verts", "total"
-    );
+    )?;
     for (name, t) in &families {
-        print_row(name, t);
+        print_row(name, t)?;
     }
-    print_row("ALL", &all);
+    print_row("ALL", &all)?;
     if supported.views != all.views {
-        print_row("ALL supported", &supported);
+        print_row("ALL supported", &supported)?;
     }
-    println!(
+    outln!(
         "(vtx_px: mean distance of matched vertices, px; ms per view per step, fastest of --repeat; angle error in degrees over fitted lines with a true counterpart)"
-    );
+    )?;
     Ok(())
 }
 
-fn print_row(name: &str, t: &Tally) {
+fn print_row(name: &str, t: &Tally) -> anyhow::Result<()> {
     let r = |a: usize, b: usize| if b == 0 { 1.0 } else { a as f64 / b as f64 };
     let mean = t.angles.iter().sum::<f64>() / t.angles.len().max(1) as f64;
     let max = t.angles.iter().cloned().fold(0.0, f64::max);
     let v = t.views.max(1) as f64;
     let ms: Vec<f64> = t.ms.iter().map(|x| x / v).collect();
-    println!(
+    outln!(
         "{:<22} {:>5} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>7.3} {:>8.3} {:>8.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3}",
         name,
         t.views,
@@ -159,7 +159,7 @@ fn print_row(name: &str, t: &Tally) {
         ms[3],
         ms[4],
         ms.iter().sum::<f64>()
-    );
+    )
 }
 
 /// Runs the front end `repeat` times; per step the fastest of the stage's own counters.

@@ -1,0 +1,453 @@
+//! What a hostile but fair user does to the command line (README "Exit codes and progress output"): full or closed
+//! stdout, huge coordinates, loose edges of the file formats, odd encodings. Each test pins one
+//! failure that once passed with a panic, `null` in the output or a misleading message.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn blockworld(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scene(name: &str) -> String {
+    common::root()
+        .join("scenes")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts exit code 2 with a message (no panic) and returns stderr.
+fn fails_with_2(o: &Output) -> String {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
+fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Regression: every printing command panicked ("failed printing to stdout", exit 101) on a
+/// full stdout; it must be an error with exit 2.
+#[test]
+fn full_stdout_is_an_error_with_exit_2() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full exists on Linux");
+    let two = scene("two_layer.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(["score", &two, &two])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let err = fails_with_2(&o);
+    assert!(err.contains("writing to stdout"), "{err}");
+}
+
+/// Regression: a stdout pipe whose reader had gone (`| head -1`) made commands panic; a closed
+/// pipe ends the command quietly with exit 0, as Unix tools do.
+#[test]
+fn closed_stdout_pipe_ends_quietly() {
+    let two = scene("two_layer.json");
+    for _ in 0..5 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args(["score", &two, &two])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(0), "stderr: {err}");
+        assert!(err.is_empty(), "{err}");
+    }
+}
+
+/// Regression: without `XDG_RUNTIME_DIR` (batch jobs, cron, containers) a Vulkan render that
+/// succeeded printed two `error: XDG_RUNTIME_DIR is invalid` lines.
+#[test]
+fn headless_render_prints_no_spurious_errors() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(["render", &scene("single_cube.json"), "--views", "ne", "-o"])
+        .arg(dir.path())
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "", "nothing on stderr on success");
+}
+
+/// Regression: an OS error was printed twice (`X: Is a directory`, then `caused by: Is a
+/// directory`).
+#[test]
+fn os_errors_are_printed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_string_lossy().into_owned();
+    let err = fails_with_2(&blockworld(&["score", &d, &d]));
+    assert_eq!(err.matches("Is a directory").count(), 1, "{err}");
+    assert!(err.contains(&d), "{err}");
+}
+
+/// Regression: a UTF-8 byte-order mark gave "expected value at line 1 column 1" and invalid
+/// UTF-8 no position; name the BOM, give the byte offset.
+#[test]
+fn bom_and_invalid_utf8_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read(scene("two_layer.json")).unwrap();
+    let bom = write(
+        dir.path(),
+        "bom.json",
+        &[b"\xEF\xBB\xBF".as_slice(), &text].concat(),
+    );
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        bom.to_str().unwrap(),
+        "-o",
+        "x.glb",
+    ]));
+    assert!(
+        err.contains("byte-order mark") && err.contains("bom.json"),
+        "{err}"
+    );
+    let mut bad = text.clone();
+    bad[20] = 0xFF;
+    let bad = write(dir.path(), "bad.json", &bad);
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        bad.to_str().unwrap(),
+        "-o",
+        "x.glb",
+    ]));
+    assert!(
+        err.contains("byte offset 20") && err.contains("bad.json"),
+        "{err}"
+    );
+}
+
+/// Regression: a block at x = 1e308 mm passed validation; `export` wrote a node translation
+/// of `null` and `render` a camera full of `null`. Now exit 2 naming the block, nothing written.
+#[test]
+fn huge_coordinates_are_refused_naming_the_block() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scene("two_layer.json")).unwrap();
+    let far = text.replacen("[0, 22.5, 0]", "[1e308, 22.5, 0]", 1);
+    assert_ne!(far, text, "the fixture has the block to move");
+    let far = write(dir.path(), "far.json", far.as_bytes());
+    let glb = dir.path().join("far.glb");
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        far.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("block 1") && err.contains("outside the world"),
+        "{err}"
+    );
+    assert!(!glb.exists());
+    let out = dir.path().join("settled.json");
+    let err = fails_with_2(&blockworld(&[
+        "settle",
+        far.to_str().unwrap(),
+        "--allow-drift",
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(err.contains("block 1"), "{err}");
+    assert!(!out.exists());
+}
+
+/// Regression: `--views ""` exited 0 writing nothing, and `--views ne,ne` wrote every file
+/// twice.
+#[test]
+fn render_views_must_be_given_once_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let one = scene("single_cube.json");
+    for (views, says) in [("", "no view given"), ("ne,ne", "ne is given twice")] {
+        let o = blockworld(&[
+            "render",
+            &one,
+            "--views",
+            views,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let err = fails_with_2(&o);
+        assert!(err.contains(says), "{err}");
+        assert!(!out.exists(), "nothing written for --views {views:?}");
+    }
+}
+
+/// Regression: `edges -o e.jpg` wrote PNG bytes under a `.jpg` name.
+#[test]
+fn edges_refuses_a_non_png_output_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let pic = dir.path().join("v.png");
+    image::GrayImage::from_fn(16, 16, |x, _| image::Luma([if x < 8 { 20 } else { 200 }]))
+        .save(&pic)
+        .unwrap();
+    let jpg = dir.path().join("e.jpg");
+    let err = fails_with_2(&blockworld(&[
+        "edges",
+        pic.to_str().unwrap(),
+        "-o",
+        jpg.to_str().unwrap(),
+    ]));
+    assert!(err.contains("e.jpg") && err.contains(".png"), "{err}");
+    assert!(!jpg.exists());
+    let png = dir.path().join("e.png");
+    let o = blockworld(&["edges", pic.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(png.exists());
+}
+
+fn generate(dir: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "generate", "--views", "", "--family", "single", "--jobs", "1",
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", dir.to_str().unwrap()]);
+    blockworld(&args)
+}
+
+/// Regression: every `generate` error said "fix the cause, e.g. free disk space", also for
+/// `--count 0`, options differing from the existing dataset and a concurrent writer; and
+/// `--jobs 1000000` hung spawning threads.
+#[test]
+fn generate_errors_carry_their_own_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    let err = fails_with_2(&generate(&ds, &["--count", "0"]));
+    assert!(err.contains("--count must be at least 1"), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
+    let o = generate(&ds, &["--count", "2", "--seed", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = fails_with_2(&generate(&ds, &["--count", "2", "--seed", "2"]));
+    assert!(
+        err.contains("other options") && err.contains("seed"),
+        "{err}"
+    );
+    assert!(!err.contains("disk space"), "{err}");
+    let many = [
+        "generate", "--views", "", "--count", "2", "--jobs", "1000000", "-o",
+    ];
+    let err = fails_with_2(&blockworld(&[&many[..], &[ds.to_str().unwrap()]].concat()));
+    assert!(err.contains("--jobs 1000000: at most 1024"), "{err}");
+    let file = write(dir.path(), "a_file", b"");
+    let err = fails_with_2(&generate(&file, &["--count", "2"]));
+    assert!(err.contains("give a directory"), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
+}
+
+/// Regression: two `generate` runs into one folder deleted each other's temporary files; the
+/// second is refused naming the first's pid, and nothing of the first is disturbed.
+#[test]
+fn a_second_generate_into_the_same_folder_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    let mut first = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args([
+            "generate", "--views", "", "--family", "single", "--jobs", "1",
+        ])
+        .args(["--count", "18446744073709551615", "-o"])
+        .arg(&ds)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    wait_for(&ds.join("s000000").join("done.json"));
+    let err = fails_with_2(&generate(&ds, &["--count", "18446744073709551615"]));
+    assert!(err.contains(&format!("pid {}", first.id())), "{err}");
+    assert!(!err.contains("disk space"), "{err}");
+    assert_eq!(first.try_wait().unwrap(), None, "the first run goes on");
+    first.kill().unwrap();
+    first.wait().unwrap();
+}
+
+/// Regression: `generate --count 18446744073709551615` panicked and `--count 1000000000000`
+/// aborted allocating every scene up front. Generation streams: the run starts writing scenes
+/// at once and its memory stays small.
+#[test]
+fn generate_streams_whatever_the_count() {
+    for count in ["18446744073709551615", "1000000000000"] {
+        let dir = tempfile::tempdir().unwrap();
+        let ds = dir.path().join("ds");
+        let mut run = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args([
+                "generate", "--views", "", "--family", "single", "--jobs", "1",
+            ])
+            .args(["--count", count, "-o"])
+            .arg(&ds)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        wait_for(&ds.join("s000002").join("done.json"));
+        let status = std::fs::read_to_string(format!("/proc/{}/status", run.id())).unwrap();
+        let rss_kib: u64 = status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.split_whitespace().next()?.parse().ok())
+            .unwrap();
+        assert!(
+            rss_kib < 300 * 1024,
+            "--count {count}: {rss_kib} KiB resident"
+        );
+        assert_eq!(
+            run.try_wait().unwrap(),
+            None,
+            "--count {count} still running"
+        );
+        run.kill().unwrap();
+        run.wait().unwrap();
+    }
+}
+
+/// Waits up to a minute for `path` to appear (a scene finished by a background run).
+fn wait_for(path: &Path) {
+    let start = std::time::Instant::now();
+    while !path.exists() {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "{} did not appear",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// Regression: `--size` accepted pictures the device cannot read back (over about 52 Mpx), and
+/// the render failed after start-up with wgpu's raw validation error; the check now runs
+/// against the adapter's limits first and says which sizes work.
+#[test]
+fn oversized_pictures_are_refused_before_rendering() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = blockworld(&[
+        "render",
+        &scene("single_cube.json"),
+        "--views",
+        "ne",
+        "--size",
+        "8192x8192",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = fails_with_2(&o);
+    assert!(err.contains("8192x8192") && err.contains("Mpx"), "{err}");
+    assert!(!err.to_lowercase().contains("validation"), "{err}");
+    assert!(!out.exists());
+}
+
+/// Regression: `vertices` on noise was superlinear (8192 x 8192 took 263 s and 2.7 GB); a
+/// picture with far more edge pixels than a block scene is refused, saying the cap, while a
+/// rendered 2048 x 2048 view of the thesis sample is not.
+#[test]
+fn noise_pictures_are_refused_with_the_edge_cap() {
+    use blockworld::camera::{Camera, CameraOptions, CornerView};
+    use blockworld::vision::{detect_line_drawing, VisionError, VisionOptions};
+    use rand::{Rng, SeedableRng};
+    let side = 2048;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let noise = image::GrayImage::from_fn(side, side, |_, _| image::Luma([rng.random()]));
+    let corners = [glam::DVec3::ZERO, glam::DVec3::splat(15.0)];
+    let opts = CameraOptions {
+        size_px: [side, side],
+        ..Default::default()
+    };
+    let camera = Camera::frame(&corners, CornerView::Ne, &opts);
+    let start = std::time::Instant::now();
+    let err = detect_line_drawing(&noise, &camera, &VisionOptions::default()).unwrap_err();
+    println!("refused in {:.2} s: {err}", start.elapsed().as_secs_f64());
+    assert!(
+        matches!(
+            err,
+            VisionError::TooManyEdges {
+                cap_px: 819_200,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("819200"), "{err}");
+    let Some(renderer) = common::renderer() else {
+        return;
+    };
+    let scene = blockworld::scene::read_scene(Path::new(&scene("thesis_sample.json"))).unwrap();
+    let mut ropts = blockworld::render::RenderOptions::default();
+    ropts.camera.size_px = [side, side];
+    for view in renderer
+        .render_views(&scene, &CornerView::ALL, &ropts)
+        .unwrap()
+    {
+        let det = detect_line_drawing(&view.gray, &view.camera, &VisionOptions::default());
+        assert!(det.is_ok(), "{:?}", det.err());
+    }
+}
+
+/// Regression: commands that still print with `println!` (here `bench accuracy`) panicked on a
+/// full stdout (exit 101); the binary's panic hook turns that into exit 2 with the error.
+#[test]
+fn println_on_a_full_stdout_still_exits_2() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let root = common::root();
+    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(["bench", "accuracy", "--recognizer"])
+        .arg(root.join("golden/recon_reference"))
+        .arg("--suite")
+        .arg(root.join("scenes/bench"))
+        .arg("--json-out")
+        .arg(dir.path().join("a.json"))
+        .stdout(full)
+        .output()
+        .unwrap();
+    let err = fails_with_2(&o);
+    assert!(err.contains("writing to stdout"), "{err}");
+}
+
+/// Regression: an endless input (`/dev/zero` as the scene) was read until memory ran out; text
+/// inputs stop at 128 MiB with an error naming the file.
+#[test]
+fn endless_inputs_stop_at_the_size_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("z.glb");
+    let err = fails_with_2(&blockworld(&[
+        "export",
+        "/dev/zero",
+        "-o",
+        glb.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("/dev/zero") && err.contains("128 MiB"),
+        "{err}"
+    );
+    assert!(!glb.exists());
+}
