@@ -180,9 +180,30 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
     let printed = String::from_utf8(o.stdout).unwrap();
     assert!(printed.contains("thesis_sample (5 blocks)"), "{printed}");
     assert!(printed.contains("settle: stable"), "{printed}");
-    // 20 render files, the vision front end's vertices_<view>.json and the glTF export.
-    assert_eq!(file_names(&out).len(), 25);
+    // 20 render files, the vision front end's vertices_<view>.json, the reconstruction, its six
+    // display figures (Figures 6.7-6.12) and two glTF exports (the sample; truth with
+    // reconstruction).
+    assert_eq!(file_names(&out).len(), 33);
+    for fig in blockworld::view::THESIS_FIGURES {
+        assert!(
+            out.join(format!("{}.png", fig.name)).exists(),
+            "{}",
+            fig.name
+        );
+    }
+    assert!(out
+        .join("thesis_sample_truth_and_reconstruction.glb")
+        .exists());
     assert!(out.join("thesis_sample.glb").exists(), "{printed}");
+    assert!(out.join("reconstruction.json").exists(), "{printed}");
+    let recognized = printed
+        .lines()
+        .find(|l| l.starts_with("recognize:"))
+        .unwrap_or_else(|| panic!("no recognize line: {printed}"));
+    assert!(
+        recognized.contains("status ok") && recognized.contains("against the truth: exact"),
+        "{recognized}"
+    );
     for view in ["ne", "se", "sw", "nw"] {
         let line = printed
             .lines()

@@ -10,8 +10,8 @@ mod common;
 use blockworld::geom::DVec3;
 use blockworld::scene::read_scene;
 use blockworld::view::{
-    draw_sheet, rasterize_sheet, wire_model, HiddenLines, Role, Sheet, SheetOptions, ViewParams,
-    WireModel,
+    draw_sheet, rasterize_sheet, wire_model, HiddenLines, Role, Sheet, SheetOptions, ThesisFigure,
+    ViewParams, WireModel, THESIS_FIGURES,
 };
 use common::{compare_golden, Tolerance};
 use image::{DynamicImage, GrayImage};
@@ -23,70 +23,10 @@ const EXACT: Tolerance = Tolerance {
     max_abs_diff: 0,
 };
 
-/// At the centre of the sample; From above its south-east corner, about 96 mm away.
-const AT_MM: [f64; 3] = [22.5, 15.0, 15.0];
-const FROM_MM: [f64; 3] = [82.5, 60.0, 75.0];
-/// Figure 6.11's "move From point": 60 mm toward At, leaving 36 mm.
-const MOVE_FROM_MM: f64 = 60.0;
-
-struct Figure {
-    name: &'static str,
-    up: [f64; 3],
-    move_from_mm: Option<f64>,
-    view_angle_deg: f64,
-}
-
-const FIGURES: [Figure; 6] = [
-    Figure {
-        name: "fig6_7_up_x",
-        up: [1.0, 0.0, 0.0],
-        move_from_mm: None,
-        view_angle_deg: 60.0,
-    },
-    Figure {
-        name: "fig6_8_up_z",
-        up: [0.0, 0.0, 1.0],
-        move_from_mm: None,
-        view_angle_deg: 60.0,
-    },
-    Figure {
-        name: "fig6_9_up_y",
-        up: [0.0, 1.0, 0.0],
-        move_from_mm: None,
-        view_angle_deg: 60.0,
-    },
-    Figure {
-        name: "fig6_10_up_213",
-        up: [2.0, 1.0, 3.0],
-        move_from_mm: None,
-        view_angle_deg: 60.0,
-    },
-    Figure {
-        name: "fig6_11_moved_from",
-        up: [0.0, 1.0, 0.0],
-        move_from_mm: Some(MOVE_FROM_MM),
-        view_angle_deg: 60.0,
-    },
-    Figure {
-        name: "fig6_12_view_angle_30",
-        up: [0.0, 1.0, 0.0],
-        move_from_mm: Some(MOVE_FROM_MM),
-        view_angle_deg: 30.0,
-    },
-];
-
-fn draw(fig: &Figure) -> Sheet {
+fn draw(fig: &ThesisFigure) -> Sheet {
     let scene = read_scene(&common::root().join("scenes/thesis_sample.json")).unwrap();
     let model = wire_model(&scene, Role::Model);
-    let mut params = ViewParams {
-        from_mm: DVec3::from_array(FROM_MM),
-        at_mm: DVec3::from_array(AT_MM),
-        up: DVec3::from_array(fig.up),
-        view_angle_deg: fig.view_angle_deg,
-    };
-    if let Some(d) = fig.move_from_mm {
-        params = params.move_from(d).unwrap();
-    }
+    let params = fig.params().unwrap();
     let opts = SheetOptions {
         size_px: [400, 400],
         hidden_lines: HiddenLines::Show,
@@ -108,7 +48,7 @@ fn gray(sheet: &Sheet) -> GrayImage {
 #[test]
 fn figures_6_7_to_6_12_match_their_goldens() {
     let mut failures = Vec::new();
-    for fig in &FIGURES {
+    for fig in &THESIS_FIGURES {
         let sheet = draw(fig);
         if let Err(e) = compare_golden(&format!("viewer/{}", fig.name), &gray(&sheet), EXACT) {
             failures.push(e);
@@ -119,14 +59,14 @@ fn figures_6_7_to_6_12_match_their_goldens() {
 
 #[test]
 fn only_the_moved_from_figures_are_clipped_and_the_smaller_angle_clips_more() {
-    let counts: Vec<(usize, usize)> = FIGURES
+    let counts: Vec<(usize, usize)> = THESIS_FIGURES
         .iter()
         .map(|f| {
             let p = &draw(f).panels[0];
             (p.clipped_lines, p.lines.len())
         })
         .collect();
-    for (fig, (clipped, drawn)) in FIGURES.iter().zip(&counts) {
+    for (fig, (clipped, drawn)) in THESIS_FIGURES.iter().zip(&counts) {
         eprintln!("{}: {clipped} clipped, {drawn} drawn", fig.name);
     }
     // Figures 6.7-6.10: the whole sample is in view, all 60 edges (5 blocks x 12).
@@ -152,7 +92,7 @@ fn bottom_and_top_px(params: &ViewParams) -> (f64, f64) {
 #[test]
 fn the_up_direction_is_up_in_the_picture() {
     // Figure 6.9 (Up = +y): the top of the sample is drawn above its bottom.
-    let params = draw(&FIGURES[2]).panels[0].params;
+    let params = draw(&THESIS_FIGURES[2]).panels[0].params;
     let (bottom, top) = bottom_and_top_px(&params);
     assert!(
         top > bottom + 50.0,
@@ -169,8 +109,8 @@ fn the_up_direction_is_up_in_the_picture() {
 
 #[test]
 fn the_plain_view_is_the_same_bytes_twice() {
-    let a = rasterize_sheet(&draw(&FIGURES[4]));
-    let b = rasterize_sheet(&draw(&FIGURES[4]));
+    let a = rasterize_sheet(&draw(&THESIS_FIGURES[4]));
+    let b = rasterize_sheet(&draw(&THESIS_FIGURES[4]));
     assert_eq!(a.as_raw(), b.as_raw());
 }
 

@@ -12,6 +12,7 @@
 //! font, [`sheet_to_svg`] into SVG text. File I/O is the CLI's.
 
 mod clip;
+mod figures;
 mod font;
 mod hidden;
 mod panel;
@@ -20,6 +21,9 @@ mod svg;
 mod transform;
 
 pub use clip::{clip_line, point_at, Clipped, OutCode};
+pub use figures::{
+    ThesisFigure, FIGURE_AT_MM, FIGURE_FROM_MM, FIGURE_MOVE_FROM_MM, THESIS_FIGURES,
+};
 pub use panel::{
     draw_sheet, wire_model, HiddenLines, Panel, PictureFace, PictureLine, PixelRect, Role, Sheet,
     SheetOptions, ViewParams, WireModel,

@@ -10,12 +10,16 @@ use crate::cli::view_args::parse_backend;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
+use blockworld::output::encode_png_rgb8;
 use blockworld::physics::{settle, SettleParams};
 use blockworld::pipeline::{observe, PipelineOptions};
 use blockworld::recognize::recognize;
 use blockworld::render::{RenderOptions, RenderedView, Renderer};
-use blockworld::scene::{read_scene, reconstruction_to_json, Scene};
+use blockworld::scene::{read_scene, reconstruction_to_json, Reconstruction, Scene};
 use blockworld::score::score_reconstruction;
+use blockworld::view::{
+    draw_sheet, rasterize_sheet, wire_model, HiddenLines, Role, SheetOptions, THESIS_FIGURES,
+};
 use blockworld::vision::{detect_line_drawing, match_vertices, VisionOptions};
 use std::path::{Path, PathBuf};
 
@@ -80,7 +84,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for v in &views {
         outln!("{}", vision_summary(v, &args.out)?)?;
     }
-    recognize_summary(&scene, &views, &args.out)?;
+    let recon = recognize_summary(&scene, &views, &args.out)?;
+    figures_of(&recon, &args.out)?;
+    let both = args
+        .out
+        .join(format!("{}_truth_and_reconstruction.glb", scene.name));
+    let glb = blockworld::export::reconstruction_with_truth_to_glb(&scene, &recon)
+        .context("exporting the truth and the reconstruction as one glTF")?;
+    blockworld::io::write_atomic(&both, &glb)
+        .with_context(|| format!("writing {}", both.display()))?;
+    outln!(
+        "export: truth and reconstruction as two named scenes -> {} ({} bytes)",
+        both.display(),
+        glb.len()
+    )?;
     let glb_path = args.out.join(format!("{}.glb", scene.name));
     let glb = blockworld::export::scene_to_glb(&scene)
         .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
@@ -97,7 +114,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Recognizes the sample from the four pictures (vision, then the modified Kanade recognizer),
 /// writes `reconstruction.json`, scores it against the truth and prints the verdict.
-fn recognize_summary(scene: &Scene, views: &[RenderedView], out: &Path) -> anyhow::Result<()> {
+fn recognize_summary(
+    scene: &Scene,
+    views: &[RenderedView],
+    out: &Path,
+) -> anyhow::Result<Reconstruction> {
     let opts = PipelineOptions::default();
     let (observed, _) = observe(views, &opts.source).context("vision on the demo views")?;
     let recognition =
@@ -107,7 +128,7 @@ fn recognize_summary(scene: &Scene, views: &[RenderedView], out: &Path) -> anyho
     blockworld::io::write_atomic(&path, reconstruction_to_json(&recon).as_bytes())
         .with_context(|| format!("writing {}", path.display()))?;
     let score = score_reconstruction(scene, &recon).context("scoring the reconstruction")?;
-    println!(
+    outln!(
         "recognize: {} -> {} blocks, status {} -> {}; against the truth: {} (IoU {:.4}, {} of {} blocks matched){}",
         views.len(),
         recon.blocks.len(),
@@ -121,7 +142,30 @@ fn recognize_summary(scene: &Scene, views: &[RenderedView], out: &Path) -> anyho
             .reason
             .as_deref()
             .map_or(String::new(), |r| format!("; reason: {r}"))
-    );
+    )?;
+    Ok(recon)
+}
+
+/// Draws the reconstruction as the thesis displays its final sample (Figures 6.7-6.12,
+/// `view::THESIS_FIGURES`), one PNG per figure.
+fn figures_of(recon: &Reconstruction, out: &Path) -> anyhow::Result<()> {
+    let model = wire_model(&recon.to_scene(), Role::Model);
+    let opts = SheetOptions {
+        size_px: [400, 400],
+        hidden_lines: HiddenLines::Show,
+        ..SheetOptions::default()
+    };
+    for fig in &THESIS_FIGURES {
+        let sheet = draw_sheet(std::slice::from_ref(&model), &fig.params()?, &opts)?;
+        let png = encode_png_rgb8(&rasterize_sheet(&sheet))?;
+        let path = out.join(format!("{}.png", fig.name));
+        blockworld::io::write_atomic(&path, &png)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    outln!(
+        "view: the reconstruction as the thesis shows its sample (Figures 6.7-6.12) -> {}/fig6_*.png",
+        out.display()
+    )?;
     Ok(())
 }
 
