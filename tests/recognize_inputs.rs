@@ -1,0 +1,93 @@
+//! The recognizer on hostile input (README "Recognizer"): seeded random byte strings through the
+//! property of the `recognize` fuzz target (`tests/fuzz/fuzz_targets/recognize_check.rs`), so
+//! CI exercises it on stable Rust; plus the bare cases (no views, a line to a missing point).
+
+include!("fuzz/fuzz_targets/recognize_check.rs");
+
+use blockworld::recognize::{recognize, RecognizeError, RecognizeOptions};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+#[test]
+fn seeded_random_drawings_never_panic_the_recognizer() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    for _ in 0..300 {
+        let len = rng.random_range(0..256);
+        let bytes: Vec<u8> = (0..len).map(|_| rng.random()).collect();
+        check_recognizer_bytes(&bytes);
+    }
+}
+
+#[test]
+fn no_views_and_broken_drawings_are_typed_errors() {
+    assert!(matches!(
+        recognize(&[], &RecognizeOptions::default()),
+        Err(RecognizeError::NoViews)
+    ));
+    // A line to a point that does not exist: byte 1 = 2 points, then a line [0, 9].
+    let mut bytes = vec![2u8, 10, 10, 20, 20, 0, 9];
+    bytes.resize(64, 0);
+    check_recognizer_bytes(&bytes);
+}
+
+/// Mutants of a real drawing reach the search itself: lines dropped, points moved a few px,
+/// the recognizer answers or declines, and an `ok` answer is one whose own drawings it checked.
+#[test]
+fn mutated_real_drawings_are_answered_or_declined() {
+    use blockworld::camera::{Camera, CameraOptions, CornerView};
+    use blockworld::geom::DVec2;
+    use blockworld::recognize::ObservedView;
+    use blockworld::render::truth::visible_line_drawing;
+    use blockworld::scene::{read_scene, ReconStatus};
+    let scene = read_scene(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/two_layer.json"
+    )))
+    .unwrap();
+    let points: Vec<_> = scene
+        .blocks
+        .iter()
+        .flat_map(|b| b.world_vertices())
+        .collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(29);
+    let (mut ok, mut declined) = (0, 0);
+    for _ in 0..40 {
+        let views: Vec<ObservedView> = CornerView::ALL
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&points, v, &CameraOptions::default());
+                let mut drawing = visible_line_drawing(&scene, &camera);
+                if rng.random_bool(0.2) && !drawing.lines.is_empty() {
+                    let k = rng.random_range(0..drawing.lines.len());
+                    drawing.lines.remove(k);
+                    drawing.kinds.clear();
+                    drawing.edges.clear();
+                }
+                for p in &mut drawing.points {
+                    if rng.random_bool(0.05) {
+                        *p += DVec2::new(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+                    }
+                }
+                drawing.finalize();
+                ObservedView { drawing, camera }
+            })
+            .collect();
+        let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+        match r.status {
+            ReconStatus::Ok => {
+                ok += 1;
+                // Never confidently wrong: an answer to damaged drawings is still the truth.
+                let recon = blockworld::csg::reconstruction(&scene.name, &r, 0.5);
+                let score = blockworld::score::score_reconstruction(&scene, &recon).unwrap();
+                assert_eq!(
+                    score.verdict,
+                    blockworld::score::Verdict::Exact,
+                    "{recon:?}"
+                );
+            }
+            ReconStatus::Unsupported => declined += 1,
+        }
+    }
+    println!("{ok} answered, {declined} declined");
+    assert_eq!(ok + declined, 40);
+}
