@@ -278,6 +278,7 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
             .output()
             .unwrap()
     };
+    let debug = tmp.join("debug");
     let ok = run(&[
         "recognize",
         dir.to_str().unwrap(),
@@ -286,12 +287,26 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
         "--from-truth",
         "--views",
         "ne,sw",
+        "--debug-dir",
+        debug.to_str().unwrap(),
     ]);
     assert!(
         ok.status.success(),
         "{}",
         String::from_utf8_lossy(&ok.stderr)
     );
+    // The thesis's intermediate files: Figure A.6 per view, the parallelograms, the layers.
+    let six_bit = std::fs::read_to_string(debug.join("six_bit_ne.txt")).unwrap();
+    assert!(
+        six_bit.starts_with("vertex") && six_bit.contains("rgtdn"),
+        "{six_bit}"
+    );
+    assert!(std::fs::read_to_string(debug.join("parallelograms_sw.txt"))
+        .unwrap()
+        .contains("Top("));
+    assert!(std::fs::read_to_string(debug.join("layers.txt"))
+        .unwrap()
+        .contains("status Ok"));
     let first = std::fs::read(&out).unwrap();
     assert!(run(&[
         "recognize",

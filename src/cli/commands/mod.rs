@@ -10,6 +10,7 @@ pub mod generate;
 pub mod label;
 pub mod merge;
 pub mod recognize;
+mod recognize_debug;
 pub mod render;
 pub mod score;
 pub mod settle;

@@ -28,6 +28,11 @@ pub struct Args {
     /// on `view_<v>.png`.
     #[arg(long)]
     pub from_truth: bool,
+    /// Also write the thesis's intermediate files here: the six-bit analysis of every vertex
+    /// (Figure A.6), the parallelogram search results, the layer table, and one overlay PNG per
+    /// view with the answer's drawing over the picture.
+    #[arg(long, value_name = "D")]
+    pub debug_dir: Option<PathBuf>,
 }
 
 /// Reads one view of `dir`: its camera and its drawing (exact, or from the picture).
@@ -74,8 +79,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|&v| read_view(&args.dir, v, args.from_truth))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let recognition = recognize(&observed, &RecognizeOptions::default())
+    let opts = RecognizeOptions::default();
+    let recognition = recognize(&observed, &opts)
         .with_context(|| format!("recognizing {}", args.dir.display()))?;
+    if let Some(debug) = &args.debug_dir {
+        super::recognize_debug::write_debug_files(
+            &args.dir,
+            debug,
+            &observed,
+            &recognition,
+            &opts,
+        )?;
+    }
     let name = args
         .dir
         .file_name()
