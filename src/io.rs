@@ -5,6 +5,15 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// Pretty JSON with a final newline: the one layout of every JSON file blockworld writes (scene,
+/// reconstruction, drawing and camera files, `dataset.json`), so the same value always gives
+/// the same bytes. Values of plain data always serialize; a failure here is a bug.
+pub fn pretty_json<T: serde::Serialize + ?Sized>(value: &T) -> String {
+    let mut s = serde_json::to_string_pretty(value).expect("plain data serializes to JSON");
+    s.push('\n');
+    s
+}
+
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
 /// On any error the temporary file is removed and `path` is untouched.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

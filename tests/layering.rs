@@ -10,8 +10,8 @@ use std::path::Path;
 const ALLOWED: &[(&str, &[&str])] = &[
     ("geom", &[]),
     ("io", &[]),
-    ("camera", &["geom"]),
-    ("drawing", &["geom"]),
+    ("camera", &["geom", "io"]),
+    ("drawing", &["geom", "io"]),
     ("scene", &["geom", "io"]),
     ("physics", &["scene", "geom"]),
     ("render", &["scene", "drawing", "camera", "geom"]),

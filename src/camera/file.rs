@@ -45,9 +45,7 @@ pub fn camera_json(camera: &Camera) -> String {
         depth_units_per_mm: DEPTH_UNITS_PER_MM,
         picture: PICTURE_CONVENTION,
     };
-    let mut s = serde_json::to_string_pretty(&file).expect("camera serializes");
-    s.push('\n');
-    s
+    crate::io::pretty_json(&file)
 }
 
 /// The on-disk layout, strict: every field of [`Camera`] plus the two informative ones.

@@ -219,8 +219,7 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
             Ok(())
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            let mut text = serde_json::to_string_pretty(&wanted).expect("serializes");
-            text.push('\n');
+            let text = crate::io::pretty_json(&wanted);
             // Shards start together: another worker may write the same file first; an identical
             // file is ours.
             write_atomic(&path, text.as_bytes()).or_else(|e| match std::fs::read_to_string(&path) {

@@ -119,9 +119,7 @@ impl LineDrawing {
 
     /// Pretty JSON, the `lines_<view>.json` format.
     pub fn to_json(&self) -> String {
-        let mut s = serde_json::to_string_pretty(self).expect("drawing serializes");
-        s.push('\n');
-        s
+        crate::io::pretty_json(self)
     }
 
     /// Points as `[x, y]` pairs (for callers that want plain arrays).

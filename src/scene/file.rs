@@ -244,9 +244,7 @@ fn block_entries(blocks: &[Block]) -> Vec<BlockEntry> {
 }
 
 fn file_to_json(file: &SceneFile) -> String {
-    let mut s = serde_json::to_string_pretty(file).expect("scene serializes");
-    s.push('\n');
-    s
+    crate::io::pretty_json(file)
 }
 
 /// Serializes a scene as pretty JSON (one stable field order; the same scene gives the same

@@ -185,8 +185,7 @@ fn prepare_output(args: &Args) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let mut text = serde_json::to_string_pretty(&stamp)?;
-    text.push('\n');
+    let text = blockworld::io::pretty_json(&stamp);
     write_atomic(&path, text.as_bytes()).with_context(|| format!("writing {}", path.display()))
 }
 

@@ -113,7 +113,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     blockworld::io::write_atomic(
         &args.json_out,
-        format!("{}\n", serde_json::to_string_pretty(&report)?).as_bytes(),
+        blockworld::io::pretty_json(&report).as_bytes(),
     )
     .with_context(|| format!("writing {}", args.json_out.display()))?;
     println!("per-scene results: {}", args.json_out.display());
