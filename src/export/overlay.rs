@@ -203,6 +203,46 @@ mod tests {
         assert_eq!(back.default_scene().unwrap().name(), Some("overlay"));
     }
 
+    /// Read back with the `gltf` crate, every block node of both groups sits at its block's pose
+    /// (centre in metres, rotation as the scene's quaternion).
+    #[test]
+    fn both_groups_read_back_at_their_blocks_poses() {
+        let truth = truth();
+        let mut recon = recon();
+        recon.blocks[1].center_mm.x += 2.0;
+        let glb = reconstruction_with_truth_to_glb(&truth, &recon).unwrap();
+        let back = gltf::Gltf::from_slice(&glb).unwrap();
+        let mut seen = 0;
+        for node in back.nodes() {
+            let Some(name) = node.name() else { continue };
+            let (blocks, rest) = if let Some(r) = name.strip_prefix("truth_block_") {
+                (&truth.blocks, r)
+            } else if let Some(r) = name.strip_prefix("reconstruction_block_") {
+                (&recon.blocks, r)
+            } else {
+                continue;
+            };
+            let index: usize = rest.split('_').next().unwrap().parse().unwrap();
+            let b = &blocks[index];
+            let (t, r, _) = node.transform().decomposed();
+            let want = b.center_mm * 1e-3;
+            for k in 0..3 {
+                assert!(
+                    (f64::from(t[k]) - want[k]).abs() < 1e-6,
+                    "{name}: {t:?} vs {want}"
+                );
+            }
+            let q = b.rotation();
+            let dot = q.x * f64::from(r[0])
+                + q.y * f64::from(r[1])
+                + q.z * f64::from(r[2])
+                + q.w * f64::from(r[3]);
+            assert!(dot.abs() > 1.0 - 1e-6, "{name}: rotation {r:?}");
+            seen += 1;
+        }
+        assert_eq!(seen, truth.blocks.len() + recon.blocks.len());
+    }
+
     #[test]
     fn an_unsupported_reconstruction_is_an_empty_group_and_both_empty_is_an_error() {
         let r = Reconstruction::unsupported("two_layer", "overhang");
