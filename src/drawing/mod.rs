@@ -102,6 +102,43 @@ impl LineDrawing {
         self.junctions = incident.iter().map(|d| classify_junction(d)).collect();
     }
 
+    /// The isometric cube of Appendix A's Figure A.2 (Chapter IV's worked example): a hexagon
+    /// of corners A..F, top vertex first, clockwise, around the middle fork G, the hexagon's
+    /// radius `scale_px` and G at `origin_px`; codes and junctions computed. Chapter IV's bit
+    /// order gives A..G the codes 40, 14, 9, 21, 33, 50, 22 (README "Thesis readings").
+    pub fn isometric_cube(scale_px: f64, origin_px: DVec2) -> LineDrawing {
+        let s = 3f64.sqrt() / 2.0;
+        let unit = [
+            (0.0, 1.0),
+            (s, 0.5),
+            (s, -0.5),
+            (0.0, -1.0),
+            (-s, -0.5),
+            (-s, 0.5),
+            (0.0, 0.0),
+        ];
+        let mut d = LineDrawing {
+            points: unit
+                .iter()
+                .map(|&(x, y)| origin_px + DVec2::new(x, y) * scale_px)
+                .collect(),
+            lines: vec![
+                [0, 1],
+                [1, 2],
+                [2, 3],
+                [3, 4],
+                [4, 5],
+                [5, 0],
+                [6, 1],
+                [6, 3],
+                [6, 5],
+            ],
+            ..Default::default()
+        };
+        d.finalize();
+        d
+    }
+
     /// Length of line `i` in px.
     pub fn line_length_px(&self, i: usize) -> f64 {
         let [a, b] = self.lines[i];
@@ -155,34 +192,8 @@ mod points_serde {
 mod tests {
     use super::*;
 
-    /// The isometric cube as a hexagon around a central fork: top vertex first, clockwise.
     fn cube() -> LineDrawing {
-        let s = 3f64.sqrt() / 2.0;
-        let mut d = LineDrawing {
-            points: vec![
-                DVec2::new(0.0, 1.0),
-                DVec2::new(s, 0.5),
-                DVec2::new(s, -0.5),
-                DVec2::new(0.0, -1.0),
-                DVec2::new(-s, -0.5),
-                DVec2::new(-s, 0.5),
-                DVec2::new(0.0, 0.0),
-            ],
-            lines: vec![
-                [0, 1],
-                [1, 2],
-                [2, 3],
-                [3, 4],
-                [4, 5],
-                [5, 0],
-                [6, 1],
-                [6, 3],
-                [6, 5],
-            ],
-            ..Default::default()
-        };
-        d.finalize();
-        d
+        LineDrawing::isometric_cube(1.0, DVec2::ZERO)
     }
 
     #[test]

@@ -520,30 +520,7 @@ mod tests {
     /// The isometric cube of Chapter VI with its origin at the middle fork (the thesis's vertex
     /// L), top vertex first, clockwise; lines as in `drawing`'s cube.
     fn cube() -> LineDrawing {
-        let s = 3f64.sqrt() / 2.0;
-        LineDrawing {
-            points: vec![
-                DVec2::new(0.0, 1.0),
-                DVec2::new(s, 0.5),
-                DVec2::new(s, -0.5),
-                DVec2::new(0.0, -1.0),
-                DVec2::new(-s, -0.5),
-                DVec2::new(-s, 0.5),
-                DVec2::new(0.0, 0.0),
-            ],
-            lines: vec![
-                [0, 1],
-                [1, 2],
-                [2, 3],
-                [3, 4],
-                [4, 5],
-                [5, 0],
-                [6, 1],
-                [6, 3],
-                [6, 5],
-            ],
-            ..Default::default()
-        }
+        LineDrawing::isometric_cube(1.0, DVec2::ZERO)
     }
 
     /// The free-floating labelling: outline clockwise (face on the right of 0 -> 1 -> ...),

@@ -63,36 +63,7 @@ pub(crate) mod tests {
     /// The isometric cube of Chapter IV (unit hexagon around the middle fork), top vertex first,
     /// clockwise, then the middle: codes {40, 14, 9, 21, 33, 50, 22}.
     pub(crate) fn cube_drawing(scale: f64, origin: DVec2) -> LineDrawing {
-        let s = 3f64.sqrt() / 2.0;
-        let pts = [
-            (0.0, 1.0),
-            (s, 0.5),
-            (s, -0.5),
-            (0.0, -1.0),
-            (-s, -0.5),
-            (-s, 0.5),
-            (0.0, 0.0),
-        ];
-        let mut d = LineDrawing {
-            points: pts
-                .iter()
-                .map(|&(x, y)| origin + DVec2::new(x, y) * scale)
-                .collect(),
-            lines: vec![
-                [0, 1],
-                [1, 2],
-                [2, 3],
-                [3, 4],
-                [4, 5],
-                [5, 0],
-                [6, 1],
-                [6, 3],
-                [6, 5],
-            ],
-            ..Default::default()
-        };
-        d.finalize();
-        d
+        LineDrawing::isometric_cube(scale, origin)
     }
 
     #[test]
