@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::geom::DVec3;
 use crate::recognize::{classify_layers, Recognition};
 use crate::scene::Block;
-use crate::scene::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
+use crate::scene::{CsgNode, Evidence, ReconStatus, Reconstruction};
 
 /// The CSG union of `blocks` (Figure 4.6; Chapter V: "adds the data together ... starting from
 /// the lowest level to the upper levels"): one union per layer, lowest layer first, leaves
@@ -34,22 +34,6 @@ pub fn build_csg(blocks: &[Block], layer_tol_mm: f64) -> CsgNode {
 /// union of [`build_csg`] (for an `ok` answer), status, reason and the per-view evidence.
 pub fn reconstruction(name: &str, r: &Recognition, layer_tol_mm: f64) -> Reconstruction {
     let csg = (r.status == ReconStatus::Ok).then(|| build_csg(&r.blocks, layer_tol_mm));
-    let views = r
-        .evidence
-        .views
-        .iter()
-        .map(|v| ViewEvidence {
-            view: v.view.clone(),
-            selected_vertices: v.selected_vertices,
-            parallelograms: v.parallelograms,
-            closed_parallelograms: v.closed_parallelograms,
-            proposals: v.proposals,
-            unexplained_points: v.check.unexplained_points,
-            extra_points: v.check.extra_points,
-            unexplained_lines: v.check.unexplained_lines,
-            extra_lines: v.check.extra_lines,
-        })
-        .collect();
     Reconstruction {
         name: name.to_string(),
         blocks: r.blocks.clone(),
@@ -57,7 +41,7 @@ pub fn reconstruction(name: &str, r: &Recognition, layer_tol_mm: f64) -> Reconst
         reason: r.reason.clone(),
         csg,
         evidence: Some(Evidence {
-            views,
+            views: r.evidence.views.clone(),
             pooled_candidates: r.evidence.pooled_candidates,
         }),
         meta: None,

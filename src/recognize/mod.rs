@@ -50,7 +50,7 @@ pub use verify::{
 };
 
 use crate::drawing::LineDrawing;
-use crate::scene::{Block, ReconStatus};
+use crate::scene::{Block, ReconStatus, ViewEvidence};
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -162,27 +162,11 @@ pub enum RecognizeError {
     },
 }
 
-/// What each view contributed (the thesis's intermediate data files, Chapter VI).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ViewEvidence {
-    /// The view's name.
-    pub view: String,
-    /// "Y" and collinear "T" vertices selected.
-    pub selected_vertices: usize,
-    /// Top-face parallelograms searched from them.
-    pub parallelograms: usize,
-    /// Of those, closed ones.
-    pub closed_parallelograms: usize,
-    /// Catalog blocks proposed.
-    pub proposals: usize,
-    /// The final comparison of the hypothesis's drawing with this view.
-    pub check: ViewCheck,
-}
-
 /// The recognizer's evidence: per-view counts, pooled candidates and the hypothesis tested.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Evidence {
-    /// One entry per view, in input order.
+    /// One entry per view, in input order: what it contributed and how the final answer's
+    /// drawing compares with it (the reconstruction file's `evidence`, one type for both).
     pub views: Vec<ViewEvidence>,
     /// Distinct candidate blocks after pooling the views.
     pub pooled_candidates: usize,
@@ -276,8 +260,7 @@ fn propose(
         selected_vertices: selected.len(),
         parallelograms: 0,
         closed_parallelograms: 0,
-        proposals: 0,
-        check: ViewCheck::default(),
+        ..ViewEvidence::default()
     };
     let mut out = Vec::new();
     for v in &selected {
@@ -376,7 +359,10 @@ pub fn recognize(
     };
     let (blocks, checks) = choose_blocks(&pool, views, &limits);
     for (ev, c) in evidence.views.iter_mut().zip(&checks) {
-        ev.check = *c;
+        ev.unexplained_points = c.unexplained_points;
+        ev.extra_points = c.extra_points;
+        ev.unexplained_lines = c.unexplained_lines;
+        ev.extra_lines = c.extra_lines;
     }
     evidence.hypothesis = blocks.clone();
     if let Some(d) = final_checks(&blocks, &checks, views, opts) {
