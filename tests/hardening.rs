@@ -451,3 +451,60 @@ fn endless_inputs_stop_at_the_size_cap() {
     );
     assert!(!glb.exists());
 }
+
+/// Long work logs its progress when stderr is not a terminal: `render` counts the line
+/// drawing's edge steps, `vertices` the vision steps, each up to 100% (the quiet first second
+/// is set to 0 so a small scene shows it).
+#[test]
+fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args(args)
+            .env("BLOCKWORLD_PROGRESS_AFTER_MS", "0")
+            .output()
+            .unwrap()
+    };
+    let o = run(&[
+        "render",
+        &scene("two_layer.json"),
+        "-o",
+        &out.to_string_lossy(),
+        "--views",
+        "ne,sw",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let lines: Vec<String> = stderr(&o)
+        .lines()
+        .filter(|l| l.starts_with("render: "))
+        .map(String::from)
+        .collect();
+    assert!(lines.len() >= 10, "a line per twentieth: {lines:?}");
+    assert!(lines.last().unwrap().contains("(100%)"), "{lines:?}");
+    let o = run(&[
+        "vertices",
+        &out.join("view_ne.png").to_string_lossy(),
+        "--camera",
+        &out.join("camera_ne.json").to_string_lossy(),
+        "-o",
+        &dir.path().join("v.json").to_string_lossy(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("vertices: 5/5 steps (100%)"),
+        "{}",
+        stderr(&o)
+    );
+    // Without the knob, quick work stays silent.
+    let o = blockworld(&[
+        "vertices",
+        &out.join("view_ne.png").to_string_lossy(),
+        "--camera",
+        &out.join("camera_ne.json").to_string_lossy(),
+    ]);
+    assert!(!stderr(&o).contains("steps"), "{}", stderr(&o));
+}

@@ -199,8 +199,26 @@ impl Renderer {
         view: CornerView,
         opts: &RenderOptions,
     ) -> Result<RenderedView, RenderError> {
+        self.render_with_progress(scene, view, opts, &|_, _| {})
+    }
+
+    /// [`Renderer::render`] reporting the exact line drawing's progress as `(done, total)`
+    /// ([`truth::visible_line_drawing_with_progress`]): on scenes of thousands of blocks the
+    /// drawing takes seconds, the pixels do not.
+    pub fn render_with_progress(
+        &self,
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<RenderedView, RenderError> {
         let mut rendered = self.render_pixels(scene, view, opts)?;
-        rendered.lines = truth::visible_line_drawing(scene, &rendered.camera);
+        rendered.lines = truth::visible_line_drawing_with_progress(
+            scene,
+            &rendered.camera,
+            &truth::TruthTolerances::default(),
+            progress,
+        );
         Ok(rendered)
     }
 

@@ -133,11 +133,34 @@ pub fn detect_line_drawing(
     camera: &Camera,
     opts: &VisionOptions,
 ) -> Result<Detection, VisionError> {
+    detect_line_drawing_with_progress(image, camera, opts, &|_, _| {})
+}
+
+/// The steps [`detect_line_drawing_with_progress`] reports: Sobel, smoothing, threshold,
+/// lines, vertices.
+pub const VISION_STEPS: u64 = 5;
+
+/// [`detect_line_drawing`] reporting `(done, VISION_STEPS)` after each step, so vision on a
+/// large picture, which takes seconds, can show progress (README "Exit codes and progress
+/// output").
+pub fn detect_line_drawing_with_progress(
+    image: &GrayImage,
+    camera: &Camera,
+    opts: &VisionOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Detection, VisionError> {
     check_picture(image, camera)?;
-    let (edges, timings) = timed_edges(image, opts);
+    let (edges, timings) = timed_edges(image, opts, progress);
     check_edge_count(&edges)?;
     let directions = edge_directions(camera, &EdgeAxis::BLOCK_AXES);
-    Ok(detect_from_edges(image, edges, &directions, opts, timings))
+    Ok(detect_from_edges(
+        image,
+        edges,
+        &directions,
+        opts,
+        timings,
+        progress,
+    ))
 }
 
 /// Edge pixels allowed per pixel of picture side (width + height). A line drawing's edge
@@ -165,8 +188,8 @@ pub fn detect_with_directions(
     directions: &[(EdgeAxis, EdgeDirection)],
     opts: &VisionOptions,
 ) -> Detection {
-    let (edges, timings) = timed_edges(image, opts);
-    detect_from_edges(image, edges, directions, opts, timings)
+    let (edges, timings) = timed_edges(image, opts, &|_, _| {});
+    detect_from_edges(image, edges, directions, opts, timings, &|_, _| {})
 }
 
 fn ms_since(t: std::time::Instant) -> f64 {
@@ -174,17 +197,24 @@ fn ms_since(t: std::time::Instant) -> f64 {
 }
 
 /// Step 1, each of its three parts counted.
-fn timed_edges(image: &GrayImage, opts: &VisionOptions) -> (GrayImage, VisionTimings) {
+fn timed_edges(
+    image: &GrayImage,
+    opts: &VisionOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> (GrayImage, VisionTimings) {
     let mut timings = VisionTimings::default();
     let t = std::time::Instant::now();
     let magnitude = sobel_magnitude(image);
     timings.sobel_ms = ms_since(t);
+    progress(1, VISION_STEPS);
     let t = std::time::Instant::now();
     let smoothed = smooth_3x3(&magnitude, opts.edges.window);
     timings.smooth_ms = ms_since(t);
+    progress(2, VISION_STEPS);
     let t = std::time::Instant::now();
     let edges = threshold(&smoothed, opts.edges.threshold);
     timings.threshold_ms = ms_since(t);
+    progress(3, VISION_STEPS);
     (edges, timings)
 }
 
@@ -195,14 +225,17 @@ fn detect_from_edges(
     directions: &[(EdgeAxis, EdgeDirection)],
     opts: &VisionOptions,
     mut timings: VisionTimings,
+    progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Detection {
     let t = std::time::Instant::now();
     let lines = fit_lines(&edges, directions, &opts.lines);
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
     timings.lines_ms = ms_since(t);
+    progress(4, VISION_STEPS);
     let t = std::time::Instant::now();
     let drawing = find_vertices(&lines, &opts.vertices);
     timings.vertices_ms = ms_since(t);
+    progress(5, VISION_STEPS);
     Detection {
         edges,
         lines,

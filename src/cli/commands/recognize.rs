@@ -5,12 +5,13 @@
 //! (Figure 4.6).
 
 use crate::cli::files::{read_camera, read_drawing, read_picture};
+use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
 use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
 use blockworld::scene::reconstruction_to_json;
-use blockworld::vision::{detect_line_drawing, VisionOptions};
+use blockworld::vision::{detect_line_drawing_with_progress, VisionOptions, VISION_STEPS};
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld recognize`.
@@ -58,9 +59,11 @@ fn read_view(dir: &Path, view: CornerView, from_truth: bool) -> anyhow::Result<O
     } else {
         let picture = dir.join(format!("view_{v}.png"));
         let gray = read_picture(&picture)?;
-        detect_line_drawing(&gray, &camera, &VisionOptions::default())
-            .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
-            .drawing
+        with_progress(&format!("vision {v}"), "steps", VISION_STEPS, |p| {
+            detect_line_drawing_with_progress(&gray, &camera, &VisionOptions::default(), p)
+        })
+        .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
+        .drawing
     };
     Ok(ObservedView { drawing, camera })
 }

@@ -30,11 +30,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     renderer.check_options(&opts).context("--size")?;
-    let rendered = with_progress("render", "views", views.len() as u64, |progress| {
+    // Each view's line drawing counts the scene's edges twice (hidden lines, then their kinds);
+    // every view has the same count, so the whole is the views times one view's total.
+    let n = views.len() as u64;
+    let rendered = with_progress("render", "edge steps", 0, |progress| {
         let mut done = Vec::with_capacity(views.len());
         for v in &views {
-            done.push(renderer.render(&scene, *v, &opts)?);
-            progress(done.len() as u64, views.len() as u64);
+            let k = done.len() as u64;
+            let view_progress = |d: u64, t: u64| progress(k * t + d, n * t);
+            done.push(renderer.render_with_progress(&scene, *v, &opts, &view_progress)?);
         }
         Ok::<_, blockworld::render::RenderError>(done)
     })

@@ -4,8 +4,11 @@
 //! `vertices_<view>.json` format, which `demo` writes too and `recognize` and `label` read.
 
 use crate::cli::files::{read_camera, read_picture};
+use crate::cli::progress::with_progress;
 use anyhow::Context;
-use blockworld::vision::{detect_line_drawing, EdgeOptions, VisionOptions};
+use blockworld::vision::{
+    detect_line_drawing_with_progress, EdgeOptions, VisionOptions, VISION_STEPS,
+};
 use std::path::PathBuf;
 
 /// Options of `blockworld vertices`.
@@ -30,8 +33,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let camera = read_camera(&args.camera)?;
     let mut opts = VisionOptions::default();
     opts.edges.threshold = args.threshold;
-    let det = detect_line_drawing(&gray, &camera, &opts)
-        .with_context(|| format!("{} (camera {})", args.view.display(), args.camera.display()))?;
+    let det = with_progress("vertices", "steps", VISION_STEPS, |p| {
+        detect_line_drawing_with_progress(&gray, &camera, &opts, p)
+    })
+    .with_context(|| format!("{} (camera {})", args.view.display(), args.camera.display()))?;
     let text = det.drawing.to_json();
     match &args.output {
         Some(p) => {

@@ -42,15 +42,18 @@ struct Class {
 }
 
 /// Cuts and classifies the visible intervals of every edge (pieces stay cut, so that a piece
-/// trimmed later can be classified again on what is left of it; see [`join_pieces`]).
+/// trimmed later can be classified again on what is left of it; see [`join_pieces`]);
+/// `progress(n)` after the n-th edge.
 pub(super) fn classify_pieces(
     geo: &SceneGeometry,
     intervals: &[EdgeIntervals],
     tol: &TruthTolerances,
+    progress: &dyn Fn(u64),
 ) -> Vec<Piece> {
     let mut out = Vec::new();
     let mut cuts = Vec::new();
-    for ei in intervals {
+    for (n, ei) in intervals.iter().enumerate() {
+        progress(n as u64 + 1);
         cuts.clear();
         collect_cuts(geo, ei.edge, tol, &mut cuts);
         cuts.sort_by(f64::total_cmp);

@@ -90,9 +90,26 @@ pub fn visible_line_drawing_with_tolerances(
     camera: &Camera,
     tol: &TruthTolerances,
 ) -> LineDrawing {
+    visible_line_drawing_with_progress(scene, camera, tol, &|_, _| {})
+}
+
+/// [`visible_line_drawing_with_tolerances`] reporting `(done, total)` as it goes: the hidden-line
+/// removal and the classification each count the scene's edges once (`total` is twice the
+/// number of edges), so a large scene's drawing, which takes seconds, can show progress
+/// (README "Exit codes and progress output").
+pub fn visible_line_drawing_with_progress(
+    scene: &Scene,
+    camera: &Camera,
+    tol: &TruthTolerances,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> LineDrawing {
     let geo = geometry::SceneGeometry::new(scene, camera);
-    let intervals = visibility::visible_intervals(&geo, tol);
-    let pieces = classify::classify_pieces(&geo, &intervals, tol);
+    let edges = geo.edges.len() as u64;
+    let intervals = visibility::visible_intervals(&geo, tol, &|done| progress(done, 2 * edges));
+    let classified = intervals.len().max(1) as u64;
+    let pieces = classify::classify_pieces(&geo, &intervals, tol, &|done| {
+        progress(edges + done * edges / classified, 2 * edges)
+    });
     assemble::assemble_drawing(&geo, pieces, tol)
 }
 

@@ -21,11 +21,16 @@ pub(super) struct EdgeIntervals {
     pub intervals: Vec<[f64; 2]>,
 }
 
-/// Visible intervals of every edge that can be seen at all.
-pub(super) fn visible_intervals(geo: &SceneGeometry, tol: &TruthTolerances) -> Vec<EdgeIntervals> {
+/// Visible intervals of every edge that can be seen at all; `progress(n)` after the n-th edge.
+pub(super) fn visible_intervals(
+    geo: &SceneGeometry,
+    tol: &TruthTolerances,
+    progress: &dyn Fn(u64),
+) -> Vec<EdgeIntervals> {
     let mut out = Vec::new();
     let mut hidden: Vec<[f64; 2]> = Vec::new();
     for (ei, edge) in geo.edges.iter().enumerate() {
+        progress(ei as u64 + 1);
         if !edge.may_show(&geo.faces) {
             continue;
         }

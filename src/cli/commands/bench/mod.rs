@@ -8,6 +8,7 @@ pub mod machine;
 mod recognize;
 mod render;
 mod vision;
+mod vision_scaling;
 
 /// Options of `blockworld bench`.
 #[derive(Debug, clap::Args)]

@@ -44,6 +44,13 @@ pub struct Args {
     /// Repeat each view's steps this many times and keep the fastest (timing only).
     #[arg(long, default_value_t = 3)]
     pub repeat: u32,
+    /// Instead of the suite: the front end's time per megapixel on pictures as dense in edges
+    /// as it accepts, from 512 px up to --max-side (README "Vision front end").
+    #[arg(long)]
+    pub scaling: bool,
+    /// Largest side of --scaling, px.
+    #[arg(long, default_value_t = 4096)]
+    pub max_side: u32,
 }
 
 /// One view to measure.
@@ -71,6 +78,9 @@ struct Tally {
 
 /// Runs `blockworld bench vision`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if args.scaling {
+        return super::vision_scaling::run(args.max_side, args.repeat);
+    }
     let samples = match &args.from {
         Some(dir) => read_views(dir)?,
         None => render_suite(&args)?,
