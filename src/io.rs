@@ -14,14 +14,34 @@ pub fn pretty_json<T: serde::Serialize + ?Sized>(value: &T) -> String {
     s
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
-/// On any error the temporary file is removed and `path` is untouched.
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, with
+/// the data on disk before the rename (`fdatasync`). On any error the temporary file is removed
+/// and `path` is untouched.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_atomic_with(path, bytes, FileSync::EveryFile)
+}
+
+/// When a file's data is forced to disk (README "Settling and datasets", durability).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FileSync {
+    /// `fdatasync` before the rename: the file survives a power loss once written.
+    #[default]
+    EveryFile,
+    /// Rename only: the file survives a killed process (the page cache keeps it), not a power
+    /// loss; for outputs whose resume re-hashes every file against its manifest, which finds
+    /// and redoes what a power loss damaged.
+    Verified,
+}
+
+/// [`write_atomic`] with the sync chosen by `sync`.
+pub fn write_atomic_with(path: &Path, bytes: &[u8], sync: FileSync) -> std::io::Result<()> {
     let tmp = temp_path(path);
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_data()?;
+        if sync == FileSync::EveryFile {
+            f.sync_data()?;
+        }
         drop(f);
         std::fs::rename(&tmp, path)
     })();
@@ -92,6 +112,27 @@ pub fn text_from_bytes(bytes: Vec<u8>) -> std::io::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn both_syncs_write_the_same_bytes_and_leave_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        for (name, sync) in [
+            ("a.txt", FileSync::EveryFile),
+            ("b.txt", FileSync::Verified),
+        ] {
+            write_atomic_with(&dir.path().join(name), b"scene", sync).unwrap();
+        }
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        for n in ["a.txt", "b.txt"] {
+            assert_eq!(std::fs::read(dir.path().join(n)).unwrap(), b"scene");
+        }
+        let missing = dir.path().join("no/such/dir/c.txt");
+        assert!(write_atomic_with(&missing, b"x", FileSync::Verified).is_err());
+    }
 
     #[test]
     fn bom_and_invalid_utf8_are_named_with_the_offset() {

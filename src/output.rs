@@ -12,7 +12,7 @@
 //!   `picture`, the picture-coordinate convention in words.
 
 use crate::camera::camera_json;
-use crate::io::write_atomic;
+use crate::io::{write_atomic_with, FileSync};
 use crate::render::RenderedView;
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ExtendedColorType, ImageEncoder};
@@ -34,6 +34,16 @@ pub fn write_rendered_views(
     dir: &Path,
     views: &[RenderedView],
 ) -> std::io::Result<Vec<WrittenFile>> {
+    write_rendered_views_with(dir, views, FileSync::EveryFile)
+}
+
+/// [`write_rendered_views`] with the files' sync chosen by `sync` (datasets, whose resume
+/// re-hashes every file, skip the per-file sync by default).
+pub fn write_rendered_views_with(
+    dir: &Path,
+    views: &[RenderedView],
+    sync: FileSync,
+) -> std::io::Result<Vec<WrittenFile>> {
     let mut written = Vec::with_capacity(views.len() * 5);
     for v in views {
         let name = v.camera.view.name();
@@ -48,7 +58,7 @@ pub fn write_rendered_views(
             ),
         ];
         for (file, bytes) in files {
-            write_atomic(&dir.join(&file), &bytes)?;
+            write_atomic_with(&dir.join(&file), &bytes, sync)?;
             written.push(WrittenFile {
                 name: file,
                 sha256: hex::encode(Sha256::digest(&bytes)),

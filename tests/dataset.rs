@@ -554,3 +554,14 @@ fn a_slurm_array_job_writes_shards_that_merge() {
     }
     assert_same_tree(&whole, &sharded);
 }
+
+/// `--fsync` (every file forced to disk) changes when bytes reach the disk, never which bytes:
+/// the dataset equals the default run's, which syncs only each scene's done marker.
+#[test]
+fn fsync_every_file_writes_the_same_dataset_as_the_default() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (synced, verified) = (tmp.path().join("synced"), tmp.path().join("verified"));
+    generate(&synced, 3, &["--size", "128x120", "--fsync"]);
+    generate(&verified, 3, &["--size", "128x120"]);
+    assert_same_tree(&synced, &verified);
+}

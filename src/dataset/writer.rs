@@ -14,10 +14,10 @@ use super::manifest::{
 };
 use super::{DatasetError, Family, Shard};
 use crate::camera::CornerView;
-use crate::io::write_atomic;
+use crate::io::{write_atomic, write_atomic_with, FileSync};
 use crate::physics::SettleParams;
 use crate::render::{RenderOptions, Renderer};
-use crate::scene::{scene_to_json, write_scene, Scene};
+use crate::scene::{scene_to_json, write_scene_with, Scene};
 use rayon::prelude::*;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
@@ -56,6 +56,10 @@ pub struct DatasetOptions {
     /// A further file per scene, beside `scene.json` and in the manifest (`generate --gltf`
     /// adds `scene.glb`); `None` (the default) writes none.
     pub scene_file: Option<SceneFileEncoder>,
+    /// When each scene's files reach the disk: [`FileSync::Verified`] (the default of
+    /// `generate`) syncs only the scene's done marker, since a resume re-hashes every file;
+    /// [`FileSync::EveryFile`] (`--fsync`) syncs every file. Does not change the content.
+    pub file_sync: FileSync,
 }
 
 /// A further per-scene file: its name in the scene folder and the function that encodes the
@@ -154,6 +158,7 @@ fn write_scene_file(
     id: &str,
     scene: &Scene,
     f: &SceneFileEncoder,
+    sync: FileSync,
 ) -> Result<(String, String), DatasetError> {
     let bytes = (f.encode)(scene).map_err(|message| DatasetError::SceneFile {
         id: id.to_string(),
@@ -161,7 +166,7 @@ fn write_scene_file(
         message,
     })?;
     let path = scene_dir.join(f.name);
-    write_atomic(&path, &bytes).map_err(io_err(&path))?;
+    write_atomic_with(&path, &bytes, sync).map_err(io_err(&path))?;
     Ok((f.name.to_string(), sha256_hex(&bytes)))
 }
 
@@ -308,19 +313,20 @@ fn produce_scene(
     let t = Instant::now();
     std::fs::create_dir_all(&scene_dir).map_err(io_err(&scene_dir))?;
     remove_temporaries(&scene_dir, None)?;
-    write_scene(&scene_dir.join(SCENE_FILE), &drawn.scene)?;
+    write_scene_with(&scene_dir.join(SCENE_FILE), &drawn.scene, opts.file_sync)?;
     let mut files = BTreeMap::new();
     files.insert(
         SCENE_FILE.to_string(),
         sha256_hex(scene_to_json(&drawn.scene).as_bytes()),
     );
     if let Some(f) = &opts.scene_file {
-        let (name, sha) = write_scene_file(&scene_dir, &spec.id(), &drawn.scene, f)?;
+        let (name, sha) =
+            write_scene_file(&scene_dir, &spec.id(), &drawn.scene, f, opts.file_sync)?;
         files.insert(name, sha);
     }
     if !views.is_empty() {
-        let written =
-            crate::output::write_rendered_views(&scene_dir, &views).map_err(io_err(&scene_dir))?;
+        let written = crate::output::write_rendered_views_with(&scene_dir, &views, opts.file_sync)
+            .map_err(io_err(&scene_dir))?;
         files.extend(written.into_iter().map(|w| (w.name, w.sha256)));
     }
     let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {

@@ -294,6 +294,16 @@ pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
 /// Writes a scene file atomically (temporary name, then rename). A block with a non-finite
 /// pose or outside the world is refused, so no `null` ever stands where a number belongs.
 pub fn write_scene(path: &Path, scene: &Scene) -> Result<(), SceneError> {
+    write_scene_with(path, scene, crate::io::FileSync::EveryFile)
+}
+
+/// [`write_scene`] with the file's sync chosen by `sync` (datasets skip the per-file sync:
+/// their resume re-hashes every file).
+pub fn write_scene_with(
+    path: &Path,
+    scene: &Scene,
+    sync: crate::io::FileSync,
+) -> Result<(), SceneError> {
     let name = path.display().to_string();
     for (index, b) in scene.blocks.iter().enumerate() {
         if !(b.center_mm.is_finite() && b.rotation().is_finite()) {
@@ -304,7 +314,7 @@ pub fn write_scene(path: &Path, scene: &Scene) -> Result<(), SceneError> {
         }
         super::check_in_world(b, index, &name)?;
     }
-    crate::io::write_atomic(path, scene_to_json(scene).as_bytes()).map_err(|source| {
+    crate::io::write_atomic_with(path, scene_to_json(scene).as_bytes(), sync).map_err(|source| {
         SceneError::Io {
             path: path.to_path_buf(),
             source,

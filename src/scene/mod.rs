@@ -15,7 +15,7 @@ pub use catalog::{block_type, BlockType, ConvexPolyhedron, Shape, CATALOG};
 pub use error::SceneError;
 pub use file::{
     parse_reconstruction, parse_scene, read_reconstruction, read_scene, reconstruction_to_json,
-    scene_to_json, write_reconstruction, write_scene,
+    scene_to_json, write_reconstruction, write_scene, write_scene_with,
 };
 pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 

@@ -13,6 +13,7 @@ use blockworld::dataset::{
     Shard,
 };
 use blockworld::export::scene_to_glb;
+use blockworld::io::FileSync;
 use blockworld::physics::SettleParams;
 use blockworld::render::Renderer;
 use blockworld::scene::{Scene, SceneError};
@@ -42,10 +43,14 @@ pub struct Args {
     /// Write shard I of N, I taken from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX.
     #[arg(long)]
     pub shards: Option<u64>,
-    /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
     /// Also write each settled scene as binary glTF, `scene.glb`, listed in the manifest.
     #[arg(long)]
     pub gltf: bool,
+    /// Force every file to disk before it is renamed into place (default: only each scene's
+    /// done marker; a resume re-hashes every file, which finds what a power loss damaged).
+    #[arg(long)]
+    pub fsync: bool,
+    /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
     #[command(flatten)]
     pub view: ViewArgs,
 }
@@ -121,6 +126,11 @@ pub fn dataset_options(args: &Args) -> anyhow::Result<DatasetOptions> {
             name: "scene.glb",
             encode: encode_glb,
         }),
+        file_sync: if args.fsync {
+            FileSync::EveryFile
+        } else {
+            FileSync::Verified
+        },
         ..opts
     })
 }
@@ -149,6 +159,7 @@ pub fn checked_options(
         shard,
         jobs,
         scene_file: None,
+        file_sync: FileSync::Verified,
     })
 }
 
