@@ -7,16 +7,16 @@ mod common;
 
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::LineDrawing;
+use blockworld::pipeline::undecided_by_views;
 use blockworld::recognize::{
-    check_hypothesis, equally_good_alternative, recognize, ObservedView, Recognition,
-    RecognizeOptions,
+    check_hypothesis, recognize, ObservedView, Recognition, RecognizeOptions,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::RenderOptions;
 use blockworld::scene::{read_scene, ReconStatus, Scene};
 use blockworld::score::{scene_family, score_reconstruction, Verdict};
 use blockworld::vision::{detect_line_drawing, VisionOptions};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 /// The views of `scene` exactly as `render` frames them, with their exact drawings.
 fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
@@ -44,17 +44,9 @@ fn truth_views_with(
         .collect()
 }
 
-/// `true` when the views show the blocks: every block has a line in some view, and no other
-/// set of catalog blocks (one block split, two merged: a crack hidden in every view) draws the
-/// same views as the truth itself.
+/// `true` when the views show the blocks and decide them (`pipeline::undecided_by_views`).
 fn every_block_shown(scene: &Scene, views: &[ObservedView]) -> bool {
-    let shown: BTreeSet<usize> = views
-        .iter()
-        .flat_map(|v| v.drawing.edges.iter().map(|e| e.block))
-        .collect();
-    let tol = RecognizeOptions::default().tol_px;
-    shown.len() == scene.blocks.len()
-        && equally_good_alternative(&scene.blocks, views, tol).is_none()
+    undecided_by_views(scene, views, RecognizeOptions::default().tol_px).is_none()
 }
 
 #[derive(Default)]

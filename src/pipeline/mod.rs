@@ -10,7 +10,7 @@
 
 use crate::camera::CornerView;
 use crate::csg::reconstruction;
-use crate::recognize::{recognize, ObservedView, RecognizeOptions};
+use crate::recognize::{equally_good_alternative, recognize, ObservedView, RecognizeOptions};
 use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{Reconstruction, Scene};
 use crate::score::{score_suite_scene, NoReconstruction, SceneResult, ScoreOptions};
@@ -80,6 +80,9 @@ pub struct SceneRun {
     /// Indices of truth blocks that no view shows at all (no pixel in any `ids` picture): no
     /// picture can recover them, so they are counted apart.
     pub unseen_blocks: Vec<usize>,
+    /// Why the views cannot decide the scene, when they cannot ([`undecided_by_views`]): then
+    /// declining is the right answer, and the scene is counted apart.
+    pub undecided: Option<String>,
     /// Time per stage.
     pub times: StageTimes,
 }
@@ -99,6 +102,28 @@ pub fn unseen_blocks(scene: &Scene, views: &[RenderedView]) -> Vec<usize> {
         }
     }
     (0..seen.len()).filter(|&i| !seen[i]).collect()
+}
+
+/// Why the exact drawings `truth_views` of `scene` cannot decide it, if they cannot: a block
+/// with no line in any view, or another set of catalog blocks (one block split in two, or two
+/// merged: a crack hidden in every view) that draws every view as the truth does. No picture
+/// taken from these views can then tell the scene from the alternative (README "Recognizer",
+/// counted apart like blocks no view shows).
+pub fn undecided_by_views(
+    scene: &Scene,
+    truth_views: &[ObservedView],
+    tol_px: f64,
+) -> Option<String> {
+    let mut drawn = vec![false; scene.blocks.len()];
+    for e in truth_views.iter().flat_map(|v| &v.drawing.edges) {
+        if let Some(d) = drawn.get_mut(e.block) {
+            *d = true;
+        }
+    }
+    if let Some(i) = drawn.iter().position(|d| !d) {
+        return Some(format!("block {i} has no line in any view"));
+    }
+    equally_good_alternative(&scene.blocks, truth_views, tol_px)
 }
 
 /// The observed views of rendered pictures: each view's drawing from `source` and its camera.
@@ -153,6 +178,10 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
         .as_ref()
         .map(|r| unseen_blocks(scene, r))
         .unwrap_or_default();
+    let undecided = rendered.as_ref().ok().and_then(|r| {
+        let (truth, _) = observe(r, &DrawingSource::Truth).ok()?;
+        undecided_by_views(scene, &truth, opts.recognize.tol_px)
+    });
     let t = Instant::now();
     let result = score_suite_scene(
         id,
@@ -165,6 +194,7 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
         result,
         reconstruction: answer.ok(),
         unseen_blocks: unseen,
+        undecided,
         times,
     }
 }

@@ -55,9 +55,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let views = args.view.corner_views()?;
     let render = args.view.render_options()?;
-    let (results, unseen) = match &args.recognizer {
+    let (results, unseen, undecided) = match &args.recognizer {
         Some(dir) => (
             score_suite(&suite, dir, &ScoreOptions::default()),
+            Vec::new(),
             Vec::new(),
         ),
         None => run_recognizer(&args, &suite, views.clone(), render)?,
@@ -87,6 +88,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             unseen.iter().filter(|(_, n)| *n > 0).map(|(id, _)| id).collect::<Vec<_>>()
         );
     }
+    for (id, why) in &undecided {
+        println!("views do not decide {id} (counted apart; declining it is right): {why}");
+    }
     for r in results.iter().filter(|r| r.unexpected_pass) {
         println!(
             "UNEXPECTED PASS {}: marked unsupported but came out {}",
@@ -106,6 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "projection": args.view.projection,
         "families": families,
         "scenes": results,
+        "undecided": undecided.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
     });
     if let Some(parent) = args.json_out.parent() {
         std::fs::create_dir_all(parent)
@@ -123,11 +128,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The suite's results and, per scene id, how many blocks no view shows.
-type SuiteOutcome = (Vec<SceneResult>, Vec<(String, usize)>);
+/// The suite's results, per scene id how many blocks no view shows, and the scenes the views do
+/// not decide with why.
+type SuiteOutcome = (
+    Vec<SceneResult>,
+    Vec<(String, usize)>,
+    Vec<(String, String)>,
+);
 
 /// Renders, recognizes and scores every suite scene (`pipeline::run_suite`); returns the
-/// results and, per scene, how many blocks no view shows.
+/// results, per scene how many blocks no view shows, and the scenes the views do not decide.
 fn run_recognizer(
     args: &Args,
     suite: &[(String, Scene)],
@@ -151,7 +161,15 @@ fn run_recognizer(
         .iter()
         .map(|r| (r.result.id.clone(), r.unseen_blocks.len()))
         .collect();
-    Ok((runs.into_iter().map(|r| r.result).collect(), unseen))
+    let undecided = runs
+        .iter()
+        .filter_map(|r| Some((r.result.id.clone(), r.undecided.clone()?)))
+        .collect();
+    Ok((
+        runs.into_iter().map(|r| r.result).collect(),
+        unseen,
+        undecided,
+    ))
 }
 
 /// Reads every `*.json` scene of the suite directory, sorted by id (the file stem).
