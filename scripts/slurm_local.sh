@@ -31,13 +31,18 @@ node=$(hostname -s)
 say() { echo "slurm_local: $*"; }
 
 # Whether a controller answers. Without a slurm.conf no client can reach one; with this script's
-# own slurm.conf and nothing recorded none of its daemons runs; else ask, for at most 5 s (a
+# own slurm.conf, only while the slurmctld of its PID file runs; else ask, for at most 5 s (a
 # client retries an absent controller for about 10 s).
 cluster_answers() {
     [ -f "$conf" ] || [ -n "${SLURM_CONF:-}" ] || return 1
-    if grep -qxF "$marker" "$conf" 2>/dev/null && [ ! -s "$pids" ]; then return 1; fi
+    if grep -qxF "$marker" "$conf" 2>/dev/null; then
+        running slurmctld "$(cat /run/slurmctld.pid 2>/dev/null)" || return 1
+    fi
     [ -n "$(timeout 5 sinfo -h -o %t 2>/dev/null)" ]
 }
+
+# Whether process PID runs program NAME (not a later process that reuses the PID).
+running() { [ -n "$2" ] && [ "$(cat "/proc/$2/comm" 2>/dev/null)" = "$1" ]; }
 
 munge_serves() { munge -n 2>/dev/null | unmunge >/dev/null 2>&1; }
 
@@ -118,7 +123,8 @@ wait_idle() {
     for i in $(seq 120); do
         t=$(sinfo -h -n "$node" -o %t 2>/dev/null || true)
         case $t in
-        idle* | mix* | alloc*) say "node $node is $t after $((i / 4)) s"; return ;;
+        # Exactly: a trailing `*` (e.g. `idle*`) means slurmd has not answered yet.
+        idle | mix | alloc) say "node $node is $t after $(((i - 1) * 250)) ms"; return ;;
         down* | drain*) scontrol update NodeName="$node" State=RESUME >/dev/null 2>&1 || true ;;
         esac
         sleep 0.25
@@ -157,7 +163,7 @@ up() {
 # Stops one recorded daemon: TERM, up to 10 s, then KILL; only when the PID still runs that program.
 stop() {
     local name=$1 pid=$2 i
-    if [ "$(cat "/proc/$pid/comm" 2>/dev/null)" != "$name" ]; then
+    if ! running "$name" "$pid"; then
         say "$name (pid $pid) is no longer running"
         return
     fi
