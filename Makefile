@@ -7,8 +7,13 @@ VULKAN_PKGS := mesa-vulkan-drivers libvulkan1
 # The Khronos glTF-Validator (npm), which tests/gltf_validator.rs runs on every .glb it writes.
 GLTF_VALIDATOR_VERSION := 2.0.0-dev.3.10
 GLTF_VALIDATOR_DIR := target/gltf-validator
+# A one-node Slurm (Debian's packages) for the real array job in tests/dataset.rs.
+SLURM_PKGS := slurm-wlm munge
+# kubernetes-validate (PyPI, bundles the Kubernetes schemas) for scripts/k8s_generate_job.yaml.
+K8S_VALIDATE_VERSION := 1.37.0
+K8S_VALIDATE_DIR := target/kubernetes-validate
 
-.PHONY: setup demo test lint ci bless
+.PHONY: setup demo test lint ci bless slurm-up slurm-down
 
 # Installs the Vulkan loader and lavapipe only when absent (needs root, as on this machine kind).
 setup:
@@ -30,14 +35,47 @@ setup:
 		npm install --prefix $(GLTF_VALIDATOR_DIR) --no-audit --no-fund --silent \
 			gltf-validator@$(GLTF_VALIDATOR_VERSION); \
 	fi
+	@# Skipped where a cluster already answers (a client node of it needs no daemons of its own).
+	@if ! { command -v slurmctld && command -v slurmd && command -v sbatch && \
+			command -v munged; } >/dev/null 2>&1 && ! timeout 5 sinfo -h >/dev/null 2>&1; then \
+		echo "installing $(SLURM_PKGS) (a one-node Slurm for tests/dataset.rs)"; \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(SLURM_PKGS); \
+	fi
+	@if [ ! -x $(K8S_VALIDATE_DIR)/bin/kubernetes-validate ]; then \
+		echo "installing kubernetes-validate $(K8S_VALIDATE_VERSION) into $(K8S_VALIDATE_DIR)"; \
+		if ! python3 -m venv $(K8S_VALIDATE_DIR) >/dev/null 2>&1; then \
+			SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+			$$SUDO apt-get update -qq && \
+			DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq python3-venv && \
+			rm -rf $(K8S_VALIDATE_DIR) && python3 -m venv $(K8S_VALIDATE_DIR); \
+		fi && \
+		$(K8S_VALIDATE_DIR)/bin/pip install --quiet --disable-pip-version-check \
+			kubernetes-validate==$(K8S_VALIDATE_VERSION); \
+	fi
 
 # Runs the main job on the built-in example (scenes/thesis_sample.json) into out/demo.
 demo: setup
 	$(CARGO) run --quiet -- demo -o out/demo
 
-# The whole test suite; a missing GPU adapter is a failure here, not a skip.
+# The whole test suite; a missing GPU adapter, Slurm cluster or manifest validator is a failure
+# here, not a skip. Starts the one-node Slurm for the tests and stops it after them, also when a
+# test fails (a cluster this did not start is used and left alone), unless the caller holds it
+# (BLOCKWORLD_SLURM_HELD=1, as .ci/run does).
 test: setup
-	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --all-targets
+	@if [ -z "$$BLOCKWORLD_SLURM_HELD" ]; then \
+		trap 'scripts/slurm_local.sh down' EXIT && scripts/slurm_local.sh up; \
+	fi && \
+	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_SLURM=1 BLOCKWORLD_REQUIRE_K8S_VALIDATE=1 \
+		$(CARGO) test --all-targets
+
+# The one-node Slurm of scripts/slurm_local.sh, by hand (README "Settling and datasets").
+slurm-up: setup
+	scripts/slurm_local.sh up
+
+slurm-down:
+	scripts/slurm_local.sh down
 
 lint:
 	$(CARGO) fmt --check

@@ -1,6 +1,10 @@
 //! `blockworld generate` and `blockworld merge` end to end (README "Settling and datasets"): every family
 //! yields scenes; the same seed gives the same bytes whatever `--jobs`; shards merge into the
-//! unsharded dataset; a run killed midway resumes to a byte-identical dataset.
+//! unsharded dataset; a run killed midway resumes to a byte-identical dataset. Scale-out on the
+//! real engines: a Slurm array job (`scripts/slurm_generate.sh`, one task killed with SIGKILL and
+//! resubmitted) and the Kubernetes Indexed Job manifest validated offline; both skip loudly
+//! without a cluster or validator, and fail instead in CI (`CI` or `BLOCKWORLD_REQUIRE_SLURM`,
+//! `BLOCKWORLD_REQUIRE_K8S_VALIDATE`, which `make test` sets).
 //!
 //! Most tests use `--views ""` (scene.json only) so they run without a GPU; the `_rendered`
 //! variants render the four views and skip loudly when no adapter (or no renderer yet) exists,
@@ -215,6 +219,24 @@ fn shards_from_the_array_job_environment() {
     assert!(ds.join("manifest.shard-1-of-2.jsonl").exists());
     let out = run("JOB_COMPLETION_INDEX", "2");
     assert!(!out.status.success(), "index 2 of 2 is out of range");
+    assert!(!run("SLURM_ARRAY_TASK_ID", "2").status.success());
+    // A task resubmitted alone (sbatch --array=1) sees a count of 1 and a minimum of 1: its
+    // index is still the shard.
+    let resubmitted = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args([
+            "generate", "--count", "5", "--seed", "7", "--views", "", "--shards", "2", "-o",
+        ])
+        .arg(&ds)
+        .env_remove("JOB_COMPLETION_INDEX")
+        .env("SLURM_ARRAY_TASK_ID", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "1")
+        .env("SLURM_ARRAY_TASK_MIN", "1")
+        .output()
+        .unwrap();
+    assert!(
+        ok(resubmitted).contains("(shard 1/2)"),
+        "the resubmitted task resumes shard 1"
+    );
     ok(blockworld(&["merge", ds.to_str().unwrap()]));
     assert_eq!(manifest(&ds).len(), 5);
 }
@@ -504,54 +526,196 @@ fn rendered_shards_merge_and_resume() {
     assert_same_tree(&whole, &sharded);
 }
 
-/// Runs `scripts/slurm_generate.sh` as a real Slurm array job (3 tasks), merges the shards and
-/// compares with an unsharded run. Skipped (loudly) unless a Slurm cluster answers `sinfo`;
-/// README "Settling and datasets" sets one up on a single machine.
-#[test]
-fn a_slurm_array_job_writes_shards_that_merge() {
+/// Whether a scale-out check must run rather than skip: in CI (`CI` set) or when `var` is set
+/// (`make test` sets it).
+fn required(var: &str) -> bool {
+    std::env::var_os("CI").is_some() || std::env::var_os(var).is_some()
+}
+
+/// A Slurm cluster answering `sinfo`, or a loud skip (`false`); no cluster is a failure in CI or
+/// with `BLOCKWORLD_REQUIRE_SLURM` set. `scripts/slurm_local.sh up` starts one on this machine.
+fn slurm_available() -> bool {
     let up = Command::new("sinfo")
         .arg("-h")
         .output()
         .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
+    if !up && required("BLOCKWORLD_REQUIRE_SLURM") {
+        panic!("no Slurm cluster answers sinfo, and CI or BLOCKWORLD_REQUIRE_SLURM requires one: run scripts/slurm_local.sh up (README \"Settling and datasets\")");
+    }
     if !up {
-        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); see README \"Settling and datasets\"");
+        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); scripts/slurm_local.sh up starts one, README \"Settling and datasets\"");
+    }
+    up
+}
+
+/// Submits `scripts/slurm_generate.sh` as the array `array` (one CPU per task, logs
+/// `task-<index>.log` in `logs`) writing `count` scenes of seed 7 in `shards` shards; the job id.
+fn sbatch_generate(array: &str, logs: &Path, ds: &Path, count: u32, extra: &[&str]) -> String {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm_generate.sh");
+    let out = Command::new("sbatch")
+        .args(["--parsable", "--cpus-per-task=1"])
+        .arg(format!("--array={array}"))
+        .arg(format!("--output={}/task-%a.log", logs.display()))
+        .arg(&script)
+        .arg(ds)
+        .args([&count.to_string(), "7", "4"])
+        .args(extra)
+        .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+        .output()
+        .unwrap();
+    let id = ok(out).trim().to_string();
+    assert!(
+        id.parse::<u64>().is_ok(),
+        "sbatch --parsable printed {id:?}"
+    );
+    id
+}
+
+/// Waits until no task of job `id` is pending or running (`squeue`); then `scontrol show job`
+/// of `task` (`<id>_<task>`: its state and exit code, kept by slurmctld for minutes).
+fn wait_for_job(id: &str, task: u32) -> String {
+    let started = std::time::Instant::now();
+    loop {
+        let out = ok(Command::new("squeue")
+            .args(["-h", "-j", id])
+            .output()
+            .unwrap());
+        if out.trim().is_empty() {
+            break;
+        }
+        // A guard against a cluster that never runs the job, not a timing target.
+        assert!(
+            started.elapsed().as_secs() < 600,
+            "job {id} still queued after 10 min:\n{out}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let show = Command::new("scontrol")
+        .args(["-o", "show", "job", &format!("{id}_{task}")])
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&show.stdout).into_owned()
+}
+
+fn task_log(logs: &Path, task: u32) -> String {
+    std::fs::read_to_string(logs.join(format!("task-{task}.log"))).unwrap_or_default()
+}
+
+/// Finished scenes (a `done.json`) of shard `index` of 4 in `ds`.
+fn done_in_shard(ds: &Path, index: u64) -> usize {
+    std::fs::read_dir(ds)
+        .map(|r| {
+            r.flatten()
+                .filter(|e| {
+                    let name = e.file_name().to_string_lossy().into_owned();
+                    name.strip_prefix('s')
+                        .and_then(|n| n.parse::<u64>().ok())
+                        .is_some_and(|n| n % 4 == index)
+                        && e.path().join("done.json").exists()
+                })
+                .count()
+        })
+        .unwrap_or(0)
+}
+
+fn remove_shard_manifests(ds: &Path) {
+    for i in 0..4 {
+        std::fs::remove_file(ds.join(format!("manifest.shard-{i}-of-4.jsonl"))).unwrap();
+    }
+}
+
+/// A real Slurm array of 4 tasks of `scripts/slurm_generate.sh` (rendered at 128x120 when a
+/// renderer exists) writes 4 shards that `merge` joins into the bytes of one unsharded run; a
+/// damaged shard makes `merge` refuse (so the comparison can fail).
+#[test]
+fn a_slurm_array_of_four_tasks_merges_to_the_bytes_of_one_run() {
+    if !slurm_available() {
+        return;
+    }
+    let views: &[&str] = if renderer_available() {
+        &["--size", "128x120"]
+    } else {
+        &["--views", ""]
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (whole, sharded) = (tmp.path().join("whole"), tmp.path().join("sharded"));
+    generate(&whole, 8, views);
+    let id = sbatch_generate("0-3", tmp.path(), &sharded, 8, views);
+    wait_for_job(&id, 0);
+    for i in 0..4 {
+        let log = task_log(tmp.path(), i);
+        assert!(
+            log.contains(&format!("2 scenes (shard {i}/4): 2 generated")),
+            "task {i}:\n{log}"
+        );
+    }
+    let scene = sharded.join("s000002").join("scene.json");
+    let bytes = std::fs::read(&scene).unwrap();
+    std::fs::write(&scene, b"{}").unwrap();
+    let out = blockworld(&["merge", sharded.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "merge took a damaged shard");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("sha256 differs"));
+    std::fs::write(&scene, bytes).unwrap();
+
+    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    remove_shard_manifests(&sharded);
+    assert_same_tree(&whole, &sharded);
+}
+
+/// SIGKILL one task of a real Slurm array mid-run (`scancel --batch --signal=KILL`); its shard
+/// is unfinished, the resubmitted task (`sbatch --array=1`) redoes only the missing scenes, and
+/// the merged dataset is the bytes of one unsharded run.
+#[test]
+fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
+    if !slurm_available() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
     let (whole, sharded) = (tmp.path().join("whole"), tmp.path().join("sharded"));
-    generate(&whole, 9, &["--views", ""]);
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm_generate.sh");
-    let out = Command::new("sbatch")
-        .args(["--wait", "--array=0-2", "--cpus-per-task=1"])
-        .arg(format!("--output={}/task-%a.log", tmp.path().display()))
-        .arg(&script)
-        .arg(&sharded)
-        .args(["9", "7", "--views", ""])
-        .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+    let opts = ["--views", ""];
+    let id = sbatch_generate("0-3", tmp.path(), &sharded, 240, &opts);
+    let shard1 = sharded.join("manifest.shard-1-of-4.jsonl");
+    for polls in 0.. {
+        if done_in_shard(&sharded, 1) >= 5 {
+            break;
+        }
+        assert!(!shard1.exists(), "task 1 finished before the kill");
+        if polls % 50 == 49 {
+            let queued = ok(Command::new("squeue")
+                .args(["-h", "-j", &format!("{id}_1")])
+                .output()
+                .unwrap());
+            let log = task_log(tmp.path(), 1);
+            assert!(!queued.trim().is_empty(), "task 1 ended early:\n{log}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    ok(Command::new("scancel")
+        .args(["--batch", "--signal=KILL", &format!("{id}_1")])
         .output()
-        .unwrap();
-    let logs: String = (0..3)
-        .map(|i| {
-            std::fs::read_to_string(tmp.path().join(format!("task-{i}.log"))).unwrap_or_default()
-        })
-        .collect();
+        .unwrap());
+    let state = wait_for_job(&id, 1);
     assert!(
-        out.status.success(),
-        "sbatch: {}\n{logs}",
-        String::from_utf8_lossy(&out.stderr)
+        state.contains("ExitCode=0:9"),
+        "not killed by SIGKILL: {state}"
     );
-    for i in 0..3 {
-        assert!(
-            sharded
-                .join(format!("manifest.shard-{i}-of-3.jsonl"))
-                .exists(),
-            "{logs}"
-        );
-    }
+    assert!(!shard1.exists(), "task 1 finished before the kill");
+    let kept = done_in_shard(&sharded, 1);
+    assert!((5..60).contains(&kept), "{kept} of 60 scenes done");
+
+    let again = tmp.path().join("again");
+    std::fs::create_dir(&again).unwrap();
+    let id = sbatch_generate("1", &again, &sharded, 240, &opts);
+    wait_for_job(&id, 1);
+    let log = task_log(&again, 1);
+    let resumed = format!(
+        "60 scenes (shard 1/4): {} generated, {kept} kept from an earlier run",
+        60 - kept
+    );
+    assert!(log.contains(&resumed), "{log}");
     ok(blockworld(&["merge", sharded.to_str().unwrap()]));
-    for i in 0..3 {
-        std::fs::remove_file(sharded.join(format!("manifest.shard-{i}-of-3.jsonl"))).unwrap();
-    }
+    remove_shard_manifests(&sharded);
+    generate(&whole, 240, &opts);
     assert_same_tree(&whole, &sharded);
 }
 
@@ -564,4 +728,91 @@ fn fsync_every_file_writes_the_same_dataset_as_the_default() {
     generate(&synced, 3, &["--size", "128x120", "--fsync"]);
     generate(&verified, 3, &["--size", "128x120"]);
     assert_same_tree(&synced, &verified);
+}
+
+/// `scripts/slurm_generate.sh` refuses an array index that is not a shard, before it writes
+/// anything (an array of 0-4 for 4 shards would otherwise write a fifth shard).
+#[test]
+fn the_slurm_script_refuses_an_index_outside_its_shards() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm_generate.sh");
+    let run = |task: &str| {
+        Command::new("bash")
+            .arg(&script)
+            .arg(&ds)
+            .args(["8", "7", "4", "--views", ""])
+            .env("SLURM_ARRAY_TASK_ID", task)
+            .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+            .output()
+            .unwrap()
+    };
+    let out = run("4");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--array=0-3"));
+    assert!(!ds.exists(), "wrote before refusing");
+    let out = ok(run("3"));
+    assert!(out.contains("2 scenes (shard 3/4): 2 generated"), "{out}");
+}
+
+/// The offline validator of Kubernetes manifests: `make setup` installs PyPI's
+/// `kubernetes-validate` into target/kubernetes-validate; `None` is a loud skip, a failure in CI
+/// or with `BLOCKWORLD_REQUIRE_K8S_VALIDATE` set.
+fn kubernetes_validate() -> Option<PathBuf> {
+    let installed = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("target/kubernetes-validate/bin/kubernetes-validate");
+    if installed.exists() {
+        return Some(installed);
+    }
+    if required("BLOCKWORLD_REQUIRE_K8S_VALIDATE") {
+        panic!("{} is missing: run make setup", installed.display());
+    }
+    eprintln!(
+        "SKIPPED: no {} (make setup installs it)",
+        installed.display()
+    );
+    None
+}
+
+/// `scripts/k8s_generate_job.yaml` is a valid Kubernetes 1.37 Indexed Job (strict schema, no
+/// cluster needed) whose completions equal its `--shards`; a misspelt field or a wrong type fails.
+#[test]
+fn the_kubernetes_indexed_job_validates_and_a_broken_one_does_not() {
+    let Some(validator) = kubernetes_validate() else {
+        return;
+    };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/k8s_generate_job.yaml");
+    let job = std::fs::read_to_string(&path).unwrap();
+    assert!(job.contains("completionMode: Indexed"));
+    assert!(job.contains("completions: 8") && job.contains("--shards=8"));
+    let validate = |file: &Path| {
+        Command::new(&validator)
+            .args(["-k", "1.37.0", "--strict"])
+            .arg(file)
+            .output()
+            .unwrap()
+    };
+    let out = ok(validate(&path));
+    assert!(out.contains("passed"), "{out}");
+
+    let tmp = tempfile::tempdir().unwrap();
+    for (from, to, says) in [
+        (
+            "completions: 8",
+            "completion: 8",
+            "'completion' was unexpected",
+        ),
+        (
+            "parallelism: 8",
+            "parallelism: eight",
+            "is not of type 'integer'",
+        ),
+    ] {
+        let broken = tmp.path().join("broken.yaml");
+        std::fs::write(&broken, job.replace(from, to)).unwrap();
+        let out = validate(&broken);
+        let text = String::from_utf8_lossy(&out.stdout).into_owned()
+            + &String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && text.contains(says), "{to}: {text}");
+    }
 }

@@ -3,7 +3,7 @@
 //!
 //! `--seed` is the dataset seed (shared with the view options, where it seeds sensor noise:
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
-//! `SLURM_ARRAY_TASK_ID` (minus `SLURM_ARRAY_TASK_MIN`) or Kubernetes' `JOB_COMPLETION_INDEX`.
+//! `SLURM_ARRAY_TASK_ID` (the array index is the shard index) or Kubernetes' `JOB_COMPLETION_INDEX`.
 
 use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
@@ -97,18 +97,10 @@ fn resolve_shard(args: &Args) -> anyhow::Result<Shard> {
             Err(_) => Ok(None),
         }
     };
+    // The array index is the shard index (submit with --array=0-<N-1>); the task count is not
+    // checked, since a failed task resubmitted alone (--array=<i>) sees a count of 1.
     let index = if let Some(id) = env_u64("SLURM_ARRAY_TASK_ID")? {
-        if let Some(count) = env_u64("SLURM_ARRAY_TASK_COUNT")? {
-            if count != n {
-                bail!(
-                    "--shards {n} but SLURM_ARRAY_TASK_COUNT={count}; submit with --array=0-{}",
-                    n - 1
-                );
-            }
-        }
-        let min = env_u64("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-        id.checked_sub(min)
-            .context("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?
+        id
     } else if let Some(i) = env_u64("JOB_COMPLETION_INDEX")? {
         i
     } else {
