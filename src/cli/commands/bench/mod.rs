@@ -7,6 +7,7 @@ mod generate;
 pub mod machine;
 mod recognize;
 mod render;
+mod scale;
 mod vision;
 mod vision_scaling;
 
@@ -31,12 +32,15 @@ enum Which {
     Recognize(recognize::Args),
     /// images/s of the wireframe export (HAWP, L-CNN, LETR) of a dataset.
     ExportDataset(export_dataset::Args),
+    /// How each stage's cost grows from 1 to 10, 100 and 1,000 blocks.
+    Scale(scale::Args),
 }
 
 /// Runs one benchmark.
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.which {
         Which::Render(a) => render::run(a),
+        Which::Scale(a) => scale::run(a),
         Which::Generate(a) => generate::run(a),
         Which::Accuracy(a) => accuracy::run(a),
         Which::Vision(a) => vision::run(a),

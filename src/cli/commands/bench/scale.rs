@@ -1,0 +1,149 @@
+//! `blockworld bench scale`: how each stage's cost grows with the number of blocks (1, 10,
+//! 100, 1,000, ...): scene validation, settling (rapier3d), the pictures of one view (render and
+//! readback), the exact line drawing of that view (hidden-line removal), and scoring the scene
+//! against itself (parry3d volume overlap). Beside the times, the growth exponent between
+//! consecutive sizes: `log(t2 / t1) / log(n2 / n1)`, 1 for linear, 2 for quadratic.
+
+use super::machine::banner;
+use anyhow::Context;
+use blockworld::camera::CornerView;
+use blockworld::geom::DVec3;
+use blockworld::physics::{settle, SettleParams};
+use blockworld::render::truth::visible_line_drawing;
+use blockworld::render::{Backend, RenderOptions, Renderer};
+use blockworld::scene::{Block, Reconstruction, Scene};
+use blockworld::score::score_reconstruction;
+use std::time::Instant;
+
+/// Options of `blockworld bench scale`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Block counts, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,10,100,1000")]
+    pub blocks: Vec<usize>,
+    /// Skip settling (rapier) for counts above this (its cost dominates first).
+    #[arg(long, default_value_t = 1000)]
+    pub settle_max: usize,
+}
+
+/// `n` Baustein 15 in a cube-like stack: layers of k x k touching cubes, k the cube root of
+/// `n` rounded up, filled layer by layer (so the stack is stable and every view has seams).
+pub fn grid_stack(n: usize) -> Scene {
+    let k = (1..).find(|k| k * k * k >= n).unwrap_or(1);
+    let blocks = (0..n)
+        .map(|i| {
+            let (layer, cell) = (i / (k * k), i % (k * k));
+            let centre = DVec3::new(
+                (cell % k) as f64 * 15.0,
+                layer as f64 * 15.0 + 7.5,
+                (cell / k) as f64 * 15.0,
+            );
+            Block::new("b15", centre, 0.0)
+        })
+        .collect();
+    Scene::new(format!("grid_{n}"), blocks)
+}
+
+/// Milliseconds of one run of `f`, with its result.
+fn timed<T>(f: impl FnOnce() -> T) -> (f64, T) {
+    let t = Instant::now();
+    let out = f();
+    (t.elapsed().as_secs_f64() * 1e3, out)
+}
+
+/// One row: ms per stage (`None` = skipped).
+struct Row {
+    blocks: usize,
+    ms: [Option<f64>; 5],
+}
+
+fn measure(renderer: &Renderer, n: usize, args: &Args) -> anyhow::Result<Row> {
+    let scene = grid_stack(n);
+    let (validate, ok) = timed(|| scene.validate(&scene.name));
+    ok.context("the grid stack is valid")?;
+    let settle_ms = if n <= args.settle_max {
+        let (ms, settled) = timed(|| settle(&scene, &SettleParams::default()));
+        settled.context("settling the grid stack")?;
+        Some(ms)
+    } else {
+        None
+    };
+    let opts = RenderOptions::default();
+    let (pixels, rendered) = timed(|| renderer.render_pixels(&scene, CornerView::Ne, &opts));
+    let rendered = rendered.context("rendering the grid stack")?;
+    let (drawing, _) = timed(|| visible_line_drawing(&scene, &rendered.camera));
+    let recon = Reconstruction::ok(scene.name.clone(), scene.blocks.clone());
+    let (score, s) = timed(|| score_reconstruction(&scene, &recon));
+    s.context("scoring the grid stack against itself")?;
+    Ok(Row {
+        blocks: n,
+        ms: [
+            Some(validate),
+            settle_ms,
+            Some(pixels),
+            Some(drawing),
+            Some(score),
+        ],
+    })
+}
+
+fn cell(v: Option<f64>) -> String {
+    v.map_or("—".to_string(), |ms| format!("{ms:.1}"))
+}
+
+/// The growth exponent of `t` from `a` to `b` blocks.
+fn exponent(a: (usize, Option<f64>), b: (usize, Option<f64>)) -> String {
+    match (a.1, b.1) {
+        (Some(ta), Some(tb)) if ta > 0.0 && tb > 0.0 && b.0 > a.0 => {
+            format!("{:.2}", (tb / ta).ln() / (b.0 as f64 / a.0 as f64).ln())
+        }
+        _ => "—".to_string(),
+    }
+}
+
+/// Runs `blockworld bench scale`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let renderer = Renderer::new(Backend::Vulkan).context("starting the renderer")?;
+    outln!("{}", banner(Some(&renderer)).trim_end())?;
+    outln!("ms per stage for a cube-like stack of n b15 (one view, 512 x 480, one run each); growth exponent to the row above in brackets")?;
+    outln!("| blocks | validate | settle | pixels (render + readback) | exact line drawing | score (IoU against itself) |")?;
+    outln!("|---|---|---|---|---|---|")?;
+    // One untimed render first: the device's first frame compiles its pipelines.
+    renderer
+        .render_pixels(&grid_stack(1), CornerView::Ne, &RenderOptions::default())
+        .context("warming up the renderer")?;
+    let mut last: Option<Row> = None;
+    for &n in &args.blocks {
+        let row = measure(&renderer, n, &args)?;
+        let cols: Vec<String> = (0..5)
+            .map(|s| {
+                let growth = last.as_ref().map_or(String::new(), |l| {
+                    format!(
+                        " ({})",
+                        exponent((l.blocks, l.ms[s]), (row.blocks, row.ms[s]))
+                    )
+                });
+                format!("{}{growth}", cell(row.ms[s]))
+            })
+            .collect();
+        outln!("| {n} | {} |", cols.join(" | "))?;
+        last = Some(row);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_stacks_are_valid_and_have_the_asked_count() {
+        for n in [1, 10, 27, 28] {
+            let s = grid_stack(n);
+            assert_eq!(s.blocks.len(), n);
+            s.validate("grid").unwrap();
+        }
+        assert_eq!(exponent((10, Some(1.0)), (100, Some(100.0))), "2.00");
+        assert_eq!(exponent((10, Some(1.0)), (100, None)), "—");
+    }
+}
