@@ -452,8 +452,8 @@ fn endless_inputs_stop_at_the_size_cap() {
     assert!(!glb.exists());
 }
 
-/// Long work logs its progress when stderr is not a terminal: `render` counts the line
-/// drawing's edge steps, `vertices` the vision steps, each up to 100% (the quiet first second
+/// Long work logs its progress when stderr is not a terminal: `render` counts the scene's
+/// validated block pairs and the line drawing's edge steps, `vertices` the vision steps, each up to 100% (the quiet first second
 /// is set to 0 so a small scene shows it).
 #[test]
 fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
@@ -485,6 +485,13 @@ fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
         .collect();
     assert!(lines.len() >= 10, "a line per twentieth: {lines:?}");
     assert!(lines.last().unwrap().contains("(100%)"), "{lines:?}");
+    assert!(
+        stderr(&o)
+            .lines()
+            .any(|l| l.starts_with("validate: ") && l.contains("block pairs (100%)")),
+        "the scene's validation shows its progress too: {}",
+        stderr(&o)
+    );
     let o = run(&[
         "vertices",
         &out.join("view_ne.png").to_string_lossy(),

@@ -5,6 +5,7 @@
 use anyhow::Context;
 use blockworld::camera::{parse_camera_json, Camera};
 use blockworld::drawing::LineDrawing;
+use blockworld::scene::{read_scene_with_progress, Scene, SceneError};
 use blockworld::vision::decode_gray;
 use image::GrayImage;
 use std::path::Path;
@@ -34,4 +35,12 @@ pub fn read_drawing(path: &Path) -> anyhow::Result<LineDrawing> {
     let text =
         blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
     LineDrawing::from_json(&text).with_context(|| format!("{}", path.display()))
+}
+
+/// Reads and validates a scene file, showing the validation's progress (block pairs tested;
+/// README "Exit codes and progress output"). The error is the library's, naming the file.
+pub fn read_scene_shown(path: &Path) -> Result<Scene, SceneError> {
+    crate::cli::progress::with_progress("validate", "block pairs", 0, |p| {
+        read_scene_with_progress(path, p)
+    })
 }

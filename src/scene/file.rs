@@ -46,6 +46,16 @@ struct BlockEntry {
 /// input in every error. Reconstruction fields (`status`, `reason`, `csg`, `evidence`) are
 /// refused: read such a file with [`parse_reconstruction`].
 pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
+    parse_scene_with_progress(text, source_name, &|_, _| {})
+}
+
+/// [`parse_scene`] reporting the validation's progress as `(done, total)` block pairs
+/// ([`Scene::validate_with_progress`]): a stack of a hundred thousand blocks takes seconds.
+pub fn parse_scene_with_progress(
+    text: &str,
+    source_name: &str,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Scene, SceneError> {
     let (file, blocks) = parse_file(text, source_name)?;
     let recon_field = [
         ("status", file.status.is_some()),
@@ -75,7 +85,7 @@ pub fn parse_scene(text: &str, source_name: &str) -> Result<Scene, SceneError> {
         expect: file.expect,
         meta: file.meta,
     };
-    scene.validate(source_name)?;
+    scene.validate_with_progress(source_name, progress)?;
     Ok(scene)
 }
 
@@ -288,7 +298,15 @@ pub fn write_reconstruction(path: &Path, recon: &Reconstruction) -> Result<(), S
 
 /// Reads, parses and validates a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
-    parse_scene(&read_text(path)?, &path.display().to_string())
+    read_scene_with_progress(path, &|_, _| {})
+}
+
+/// [`read_scene`] reporting the validation's progress ([`parse_scene_with_progress`]).
+pub fn read_scene_with_progress(
+    path: &Path,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Scene, SceneError> {
+    parse_scene_with_progress(&read_text(path)?, &path.display().to_string(), progress)
 }
 
 /// Writes a scene file atomically (temporary name, then rename). A block with a non-finite

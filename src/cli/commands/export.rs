@@ -103,7 +103,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// number of blocks in it.
 fn gltf_files(args: &Args) -> anyhow::Result<(GltfFiles, usize)> {
     let Some(truth_path) = &args.truth else {
-        let scene = read_scene(&args.scene)?;
+        let scene = crate::cli::files::read_scene_shown(&args.scene)?;
         return Ok((scene_to_gltf(&scene)?, scene.blocks.len()));
     };
     let truth = read_scene(truth_path)

@@ -6,7 +6,7 @@ use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
 use blockworld::output::write_rendered_views;
 use blockworld::render::{RenderedView, Renderer};
-use blockworld::scene::read_scene;
+
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld render`.
@@ -26,7 +26,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let views = args.view.some_corner_views()?;
     let opts = args.view.render_options()?;
     let backend = args.view.backend()?;
-    let scene = read_scene(&args.scene)
+    let scene = crate::cli::files::read_scene_shown(&args.scene)
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     renderer.check_options(&opts).context("--size")?;

@@ -3,7 +3,7 @@
 
 use anyhow::Context;
 use blockworld::export::Truncation;
-use blockworld::scene::{read_reconstruction, read_scene, Reconstruction};
+use blockworld::scene::{read_reconstruction, Reconstruction};
 use blockworld::score::{score_reconstruction, Score, ScoreOptions};
 use std::path::PathBuf;
 
@@ -25,7 +25,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Appendix B data files are read back too (Chapter VI menu r, "read blocksample").
     let truth = match super::view::thesis_pair(&args.truth) {
         Some(_) => super::view::read_model(&args.truth, Truncation::Strict)?,
-        None => read_scene(&args.truth)
+        None => crate::cli::files::read_scene_shown(&args.truth)
             .with_context(|| format!("reading the truth scene {}", args.truth.display()))?,
     };
     let recon = match super::view::thesis_pair(&args.recon) {

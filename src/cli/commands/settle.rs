@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use blockworld::physics::{settle, SettleParams};
-use blockworld::scene::{read_scene, write_scene};
+use blockworld::scene::write_scene;
 use std::path::PathBuf;
 
 /// Options of `blockworld settle`.
@@ -27,7 +27,7 @@ pub struct Args {
 /// Runs `blockworld settle`: stable scenes are written snapped to their intended poses;
 /// unstable ones are reported block by block and fail unless `--allow-drift`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let scene = read_scene(&args.scene)?;
+    let scene = crate::cli::files::read_scene_shown(&args.scene)?;
     let params = SettleParams {
         drift_tol_mm: args.drift_tol_mm,
         turn_tol_deg: args.turn_tol_deg,
