@@ -83,6 +83,9 @@ pub struct ExportSummary {
     pub images: usize,
     /// Pictures written by this run.
     pub new_images: usize,
+    /// Pictures left out because the format's loader cannot take them
+    /// (`WireframeFormat::loader_refusal`).
+    pub left_out: usize,
     /// Lines in the export.
     pub lines: usize,
     /// Wall time of this run, s.
@@ -93,11 +96,12 @@ pub struct ExportSummary {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let s = export(&args)?;
     println!(
-        "{} scenes ({} kept from an earlier run): {} images, {} lines; {} images exported in {:.2} s ({:.1} images/s) -> {}",
+        "{} scenes ({} kept from an earlier run): {} images, {} lines, {} pictures left out (the loader cannot take them); {} images exported in {:.2} s ({:.1} images/s) -> {}",
         s.scenes,
         s.resumed,
         s.images,
         s.lines,
+        s.left_out,
         s.new_images,
         s.wall_s,
         s.new_images as f64 / s.wall_s.max(1e-9),
@@ -127,12 +131,13 @@ pub fn export(args: &Args) -> anyhow::Result<ExportSummary> {
         bar.tick_to(done as u64 + 1, entries.len() as u64);
     }
     bar.finish();
-    let (images, lines) = assemble(args, &entries)?;
+    let (images, lines, left_out) = assemble(args, &entries)?;
     Ok(ExportSummary {
         scenes: entries.len(),
         resumed,
         images,
         new_images,
+        left_out,
         lines,
         wall_s: started.elapsed().as_secs_f64(),
     })
@@ -212,6 +217,7 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
     let format = args.format.format();
     let mut records = Vec::with_capacity(views.len());
     let mut images = serde_json::Map::new();
+    let mut left_out = 0usize;
     for (view, drawing_bytes, picture_bytes) in inputs {
         let lines_path = scene_dir.join(format!("lines_{view}.json"));
         let text = String::from_utf8(drawing_bytes)
@@ -225,6 +231,11 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         let wf = wireframe_from_drawing(&drawing, w, h)
             .with_context(|| format!("{}", lines_path.display()))?;
         let filename = format!("{}_{view}.png", entry.id);
+        if let Some(why) = format.loader_refusal(&wf) {
+            eprintln!("export-dataset: {filename} left out: {why}");
+            left_out += 1;
+            continue;
+        }
         let png = if args.rgb {
             encode_png_rgb8(&image::DynamicImage::ImageLuma8(decoded.gray).to_rgb8())?
         } else if decoded.converted_from.is_none() {
@@ -248,7 +259,12 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         });
     }
     let written = records.len();
-    let part = json!({"split": split_name(split), "images": images, "records": records});
+    let part = json!({
+        "split": split_name(split),
+        "images": images,
+        "records": records,
+        "left_out": left_out,
+    });
     write_atomic(&part_path, part.to_string().as_bytes())
         .with_context(|| format!("writing {}", part_path.display()))?;
     Ok(Some(written))
@@ -311,9 +327,10 @@ fn split_name(split: Split) -> &'static str {
 }
 
 /// Joins the part files, in scene order, into the format's annotation files; returns the
-/// numbers of images and lines.
-fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, usize)> {
+/// numbers of images, lines and pictures left out.
+fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, usize, usize)> {
     let mut records: [Vec<Value>; 2] = [Vec::new(), Vec::new()];
+    let mut left_out = 0;
     for entry in entries {
         let path = args
             .output
@@ -328,6 +345,7 @@ fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, us
             )
         })?;
         let side = usize::from(part["split"] == "test");
+        left_out += part["left_out"].as_u64().unwrap_or(0) as usize;
         if let Value::Array(items) = part["records"].take() {
             records[side].extend(items);
         }
@@ -350,7 +368,7 @@ fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, us
         write_atomic(&path, text.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    Ok((images, lines))
+    Ok((images, lines, left_out))
 }
 
 fn line_count(record: &Value) -> usize {
