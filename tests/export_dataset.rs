@@ -505,7 +505,7 @@ fn every_format_reads_back_flipped_split_by_scene_and_on_the_drawing() {
 }
 
 #[test]
-fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
+fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes_on_any_jobs() {
     if !renderer_available() {
         return;
     }
@@ -516,6 +516,11 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
     ok(export(&ds, "hawp", &out, &[]));
     let train = std::fs::read(out.join("train.json")).unwrap();
     let test = std::fs::read(out.join("test.json")).unwrap();
+    // One thread or four (the default): the same bytes.
+    let serial = tmp.path().join("serial");
+    ok(export(&ds, "hawp", &serial, &["--jobs", "1"]));
+    assert_eq!(std::fs::read(serial.join("train.json")).unwrap(), train);
+    assert_eq!(std::fs::read(serial.join("test.json")).unwrap(), test);
     // Interrupted: a scene's part file and a picture gone, the annotation files not written.
     std::fs::remove_file(out.join(".parts/s000001.json")).unwrap();
     std::fs::remove_file(out.join("images/s000001_se.png")).unwrap();
