@@ -1,11 +1,14 @@
 //! `blockworld export-dataset DATASET --format hawp|lcnn|letr -o OUT [--split 0.9]
-//! [--split-seed S] [--rgb]` (README "Wireframe datasets"): a generated dataset's exact line
-//! drawings as training sets for learned wireframe parsers.
+//! [--split-seed S] [--rgb] [--jobs N]` (README "Wireframe datasets"): a generated dataset's
+//! exact line drawings as training sets for learned wireframe parsers.
 //!
-//! Streams scene by scene: each scene's pictures and records are written (atomically) before
-//! its part file `OUT/.parts/<id>.json`, the resume record; re-running the same command skips
-//! the scenes that have one. The annotation files are assembled from the parts at the end.
-//! Every file read from the dataset is checked against its sha256 in `manifest.jsonl`.
+//! Streams scene by scene (on `--jobs` threads): each scene's pictures and records are written
+//! (atomically, temporary name and rename) before its part file `OUT/.parts/<id>.json`, the
+//! resume record; re-running the same command skips the scenes whose part file reads and whose
+//! pictures match the sha256 it lists. Because that check catches a lost or torn file, these
+//! files are not synced one by one (a sync per file made the disk the bottleneck); the
+//! annotation files, assembled from the parts at the end, are. Every file read from the dataset
+//! is checked against its sha256 in `manifest.jsonl`.
 
 use anyhow::{bail, Context};
 use blockworld::dataset::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
@@ -14,7 +17,7 @@ use blockworld::export::wireframe::{
     hawp_test_record, hawp_train_record, lcnn_record, letr_annotations, letr_document, letr_image,
     split_of, wireframe_from_drawing, Split, Wireframe, WireframeFormat,
 };
-use blockworld::io::write_atomic;
+use blockworld::io::{write_atomic, write_atomic_unsynced};
 use blockworld::output::{encode_png_gray8, encode_png_rgb8};
 use blockworld::vision::{decode_gray, DecodedPicture};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -274,7 +277,7 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         let image_path = args.output.join(format.image_dir(split)).join(&filename);
         let relative = format!("{}/{filename}", format.image_dir(split));
         images.insert(relative, json!(sha256_hex(&png)));
-        write_atomic(&image_path, &png)
+        write_atomic_unsynced(&image_path, &png)
             .with_context(|| format!("writing {}", image_path.display()))?;
         records.push(format_record(format, split, &filename, &wf));
     }
@@ -285,7 +288,7 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
         "records": records,
         "left_out": left_out,
     });
-    write_atomic(&part_path, part.to_string().as_bytes())
+    write_atomic_unsynced(&part_path, part.to_string().as_bytes())
         .with_context(|| format!("writing {}", part_path.display()))?;
     Ok(Some(written))
 }
