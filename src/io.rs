@@ -130,6 +130,11 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         let missing = dir.path().join("no/such/dir/a.txt");
         assert!(write_atomic(&missing, b"x").is_err());
+        // The unsynced form: the same file, no temporary left, the same refusal.
+        write_atomic_unsynced(&p, b"world").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"world");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        assert!(write_atomic_unsynced(&missing, b"x").is_err());
     }
 
     #[test]

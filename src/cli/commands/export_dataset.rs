@@ -66,7 +66,8 @@ pub struct Args {
     /// Seed of the split hash.
     #[arg(long, default_value_t = 0)]
     pub split_seed: u64,
-    /// Write three-channel (RGB) PNGs; 8-bit grayscale otherwise.
+    /// Write three-channel (RGB) PNGs; 8-bit grayscale otherwise. The current HAWP, L-CNN and
+    /// LETR loaders take gray; HAWP v1 (its `parsing/` tree) needs RGB.
     #[arg(long)]
     pub rgb: bool,
     /// Scenes exported at once. The work mostly waits on the disk (every file is synced before
