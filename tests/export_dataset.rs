@@ -92,6 +92,8 @@ struct Labelled {
     /// Junctions where the format lists them (HAWP); line ends otherwise.
     junctions: Vec<[f64; 2]>,
     kinds: Vec<String>,
+    /// Per line, whether each end is marked as a border clip point.
+    border: Vec<[bool; 2]>,
     /// How far apart two coinciding line ends may be: 0 where the format stores ends as
     /// coordinates; LETR stores `[x, y, dx, dy]` and `x + dx` cannot always hit the shared
     /// coordinate in f64, so 1e-9 px there.
@@ -117,6 +119,7 @@ fn common(root: &Path, dir: &str, item: &Value, train: bool, name_key: &str) -> 
         lines: Vec::new(),
         junctions: Vec::new(),
         kinds: kinds(&item["line_kind"]),
+        border: Vec::new(),
         same_point_tol_px: 0.0,
     }
 }
@@ -133,13 +136,22 @@ fn read_hawp(root: &Path) -> Vec<Labelled> {
             .iter()
             .map(xy)
             .collect();
-        assert!(item["edges_negative"].is_array());
+        let types = kinds(&item["junction_type"]);
+        let mut positive = BTreeSet::new();
         for e in item["edges_positive"].as_array().unwrap() {
             let (a, b) = (
                 e[0].as_u64().unwrap() as usize,
                 e[1].as_u64().unwrap() as usize,
             );
             l.lines.push([junctions[a], junctions[b]]);
+            l.border.push([types[a] == "border", types[b] == "border"]);
+            positive.insert([a.min(b), a.max(b)]);
+        }
+        // Negatives: junction pairs that are no line.
+        for e in item["edges_negative"].as_array().unwrap() {
+            let pair = [0, 1].map(|k| e[k].as_u64().unwrap() as usize);
+            assert!(pair[0] < pair[1] && pair[1] < junctions.len(), "{e}");
+            assert!(!positive.contains(&pair), "negative {e} is a line");
         }
         l.junctions = junctions;
         out.push(l);
@@ -153,9 +165,19 @@ fn read_hawp(root: &Path) -> Vec<Labelled> {
             .map(line4)
             .collect();
         l.junctions = item["junc"].as_array().unwrap().iter().map(xy).collect();
+        let types = kinds(&item["junction_type"]);
+        let is_border = |p: [f64; 2]| {
+            let j = l.junctions.iter().position(|j| *j == p).unwrap();
+            types[j] == "border"
+        };
+        l.border = l.lines.iter().map(|e| e.map(is_border)).collect();
         out.push(l);
     }
     out
+}
+
+fn flags(v: &Value) -> [bool; 2] {
+    [v[0].as_bool().unwrap(), v[1].as_bool().unwrap()]
 }
 
 fn line4(v: &Value) -> [[f64; 2]; 2] {
@@ -185,6 +207,12 @@ fn read_lcnn(root: &Path) -> Vec<Labelled> {
                 .unwrap()
                 .iter()
                 .map(line4)
+                .collect();
+            l.border = item["line_border"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(flags)
                 .collect();
             ends_as_junctions(&mut l);
             out.push(l);
@@ -219,8 +247,13 @@ fn read_letr(root: &Path) -> Vec<Labelled> {
             assert_eq!(ann["category_id"], 0);
             assert!(ann_ids.insert(ann["id"].as_u64().unwrap()), "{ann}");
             let [x, y, dx, dy] = [0, 1, 2, 3].map(|k| ann["line"][k].as_f64().unwrap());
+            // LETR reads `area`, and its crop and flips take the left end first (the upper
+            // one on a vertical line).
+            assert!(ann["area"].is_number(), "{ann}");
+            assert!(dx > 0.0 || (dx == 0.0 && dy >= 0.0), "{ann}");
             let l = by_id.get_mut(&ann["image_id"].as_u64().unwrap()).unwrap();
             l.lines.push([[x, y], [x + dx, y + dy]]);
+            l.border.push(flags(&ann["border_ends"]));
             l.kinds.push(ann["line_kind"].as_str().unwrap().to_string());
         }
         for mut l in by_id.into_values() {
@@ -364,6 +397,7 @@ fn check_export(dataset: &Path, set: &[Labelled], rgb: bool) {
             l.picture
         );
         assert_eq!(l.kinds.len(), l.lines.len());
+        assert_eq!(l.border.len(), l.lines.len());
         // Split by scene: all views of a scene on one side.
         let (id, _) = scene_and_view(&l.picture);
         assert_eq!(
@@ -471,7 +505,7 @@ fn every_format_reads_back_flipped_split_by_scene_and_on_the_drawing() {
 }
 
 #[test]
-fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
+fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes_on_any_jobs() {
     if !renderer_available() {
         return;
     }
@@ -482,6 +516,11 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
     ok(export(&ds, "hawp", &out, &[]));
     let train = std::fs::read(out.join("train.json")).unwrap();
     let test = std::fs::read(out.join("test.json")).unwrap();
+    // One thread or four (the default): the same bytes.
+    let serial = tmp.path().join("serial");
+    ok(export(&ds, "hawp", &serial, &["--jobs", "1"]));
+    assert_eq!(std::fs::read(serial.join("train.json")).unwrap(), train);
+    assert_eq!(std::fs::read(serial.join("test.json")).unwrap(), test);
     // Interrupted: a scene's part file and a picture gone, the annotation files not written.
     std::fs::remove_file(out.join(".parts/s000001.json")).unwrap();
     std::fs::remove_file(out.join("images/s000001_se.png")).unwrap();
@@ -514,6 +553,127 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes() {
         "{err}"
     );
     assert!(!fresh.join("train.json").exists() && !fresh.join("valid.json").exists());
+}
+
+/// Cuts every view of a generated dataset to the window `x0..x0 + w`, raster rows `0..h` of its
+/// picture: the same orthographic camera with a smaller picture, whose blocks now run off it.
+/// The picture is cropped, the drawing's points moved by `(-x0, -(H - h))` (picture px, y up,
+/// README "Conventions"), and the manifest's hashes of both updated.
+fn cut_views(dataset: &Path, x0: u32, w: u32, h: u32) {
+    let manifest_path = dataset.join("manifest.jsonl");
+    let mut manifest = String::new();
+    for line in std::fs::read_to_string(&manifest_path).unwrap().lines() {
+        let mut entry: Value = serde_json::from_str(line).unwrap();
+        let dir = dataset.join(entry["id"].as_str().unwrap());
+        for view in ["ne", "se", "sw", "nw"] {
+            let picture = dir.join(format!("view_{view}.png"));
+            let full = image::open(&picture).unwrap().to_luma8();
+            let shift_y = f64::from(full.height() - h);
+            let cut = image::imageops::crop_imm(&full, x0, 0, w, h).to_image();
+            cut.save(&picture).unwrap();
+            let lines = dir.join(format!("lines_{view}.json"));
+            let mut d = read_json(&lines);
+            for p in d["points"].as_array_mut().unwrap() {
+                let [x, y] = xy(p);
+                *p = serde_json::json!([x - f64::from(x0), y - shift_y]);
+            }
+            std::fs::write(&lines, d.to_string()).unwrap();
+            for file in [picture, lines] {
+                let name = file.file_name().unwrap().to_str().unwrap().to_string();
+                let sha = blockworld::dataset::sha256_hex(&std::fs::read(&file).unwrap());
+                entry["files"][name] = Value::String(sha);
+            }
+        }
+        manifest.push_str(&entry.to_string());
+        manifest.push('\n');
+    }
+    std::fs::write(&manifest_path, manifest).unwrap();
+}
+
+/// The ends of drawing lines (raster px) that lie outside the picture on lines that still cross
+/// it, found by sampling each line (independent of the exporter's clipping).
+fn outside_ends_of_crossing_lines(drawing: &[[[f64; 2]; 2]], w: f64, h: f64) -> usize {
+    let inside = |p: [f64; 2]| p[0] >= 0.0 && p[1] >= 0.0 && p[0] <= w && p[1] <= h;
+    drawing
+        .iter()
+        .filter(|d| {
+            (1..1000).any(|k| {
+                let t = f64::from(k) / 1000.0;
+                inside([
+                    d[0][0] + t * (d[1][0] - d[0][0]),
+                    d[0][1] + t * (d[1][1] - d[0][1]),
+                ])
+            })
+        })
+        .map(|d| d.iter().filter(|p| !inside(**p)).count())
+        .sum()
+}
+
+/// Clipping end to end: rendered scenes cut by a smaller picture, exported in every format and
+/// read back; every clipped line ends on the border within 0.5 px with that end marked, no
+/// other end is marked, as many ends are marked as the drawing has outside ends of lines
+/// crossing the picture, and every check of the unclipped export holds too.
+#[test]
+fn scenes_running_off_the_picture_clip_to_the_border_with_marked_ends() {
+    if !renderer_available() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    ok(blockworld(&[
+        "generate",
+        "--count",
+        "4",
+        "--seed",
+        "5",
+        "--jobs",
+        "1",
+        "--size",
+        "240x200",
+        "-o",
+        ds.to_str().unwrap(),
+    ]));
+    cut_views(&ds, 60, 160, 130);
+    for (format, reader) in [
+        ("hawp", read_hawp as fn(&Path) -> Vec<Labelled>),
+        ("lcnn", read_lcnn),
+        ("letr", read_letr),
+    ] {
+        let out = tmp.path().join(format);
+        // Split seed 1 puts two of the four scenes on each side (seed 0 puts all in test).
+        ok(export(&ds, format, &out, &["--split-seed", "1"]));
+        let set = reader(&out);
+        check_export(&ds, &set, false);
+        let on_edges = lines_on_picture_edges(&set, false);
+        assert!(
+            on_edges >= 0.95,
+            "{format}: {on_edges} of lines on picture edges"
+        );
+        let (mut marked, mut expected) = (0, 0);
+        for l in &set {
+            let on_border = |p: [f64; 2]| {
+                p[0].abs().min(p[1].abs()) <= 0.5
+                    || (p[0] - l.width).abs() <= 0.5
+                    || (p[1] - l.height).abs() <= 0.5
+            };
+            for (line, border) in l.lines.iter().zip(&l.border) {
+                for (p, b) in line.iter().zip(border) {
+                    if *b {
+                        assert!(on_border(*p), "{format}: marked end {p:?} off the border");
+                        marked += 1;
+                    }
+                }
+            }
+            let drawing = drawing_lines(&ds, &l.picture, l.height, true);
+            expected += outside_ends_of_crossing_lines(&drawing, l.width, l.height);
+        }
+        eprintln!("{format}: {marked} clipped ends marked, {expected} expected");
+        assert!(
+            expected >= 20,
+            "{format}: the cut should clip many lines ({expected})"
+        );
+        assert_eq!(marked, expected, "{format}");
+    }
 }
 
 /// Draws a read-back HAWP item over its picture, 2x enlarged: lines coloured by `line_kind`

@@ -1,26 +1,30 @@
 //! `blockworld export-dataset DATASET --format hawp|lcnn|letr -o OUT [--split 0.9]
-//! [--split-seed S] [--rgb]` (README "Wireframe datasets"): a generated dataset's exact line
-//! drawings as training sets for learned wireframe parsers.
+//! [--split-seed S] [--rgb] [--jobs N]` (README "Wireframe datasets"): a generated dataset's
+//! exact line drawings as training sets for learned wireframe parsers.
 //!
-//! Streams scene by scene: each scene's pictures and records are written (atomically) before
-//! its part file `OUT/.parts/<id>.json`, the resume record; re-running the same command skips
-//! the scenes that have one. The annotation files are assembled from the parts at the end.
-//! Every file read from the dataset is checked against its sha256 in `manifest.jsonl`.
+//! Streams scene by scene (on `--jobs` threads): each scene's pictures and records are written
+//! (atomically, temporary name and rename) before its part file `OUT/.parts/<id>.json`, the
+//! resume record; re-running the same command skips the scenes whose part file reads and whose
+//! pictures match the sha256 it lists. Because that check catches a lost or torn file, these
+//! files are not synced one by one (a sync per file made the disk the bottleneck); the
+//! annotation files, assembled from the parts at the end, are. Every file read from the dataset
+//! is checked against its sha256 in `manifest.jsonl`.
 
 use anyhow::{bail, Context};
 use blockworld::dataset::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 use blockworld::drawing::LineDrawing;
 use blockworld::export::wireframe::{
     hawp_test_record, hawp_train_record, lcnn_record, letr_annotations, letr_document, letr_image,
-    split_of, wireframe_from_drawing, Split, WireframeFormat,
+    split_of, wireframe_from_drawing, Split, Wireframe, WireframeFormat,
 };
-use blockworld::io::write_atomic;
+use blockworld::io::{write_atomic, write_atomic_with, FileSync};
 use blockworld::output::{encode_png_gray8, encode_png_rgb8};
-use blockworld::vision::decode_gray;
+use blockworld::vision::{decode_gray, DecodedPicture};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// The formats on the command line.
@@ -62,10 +66,18 @@ pub struct Args {
     /// Seed of the split hash.
     #[arg(long, default_value_t = 0)]
     pub split_seed: u64,
-    /// Write three-channel (RGB) PNGs; 8-bit grayscale otherwise.
+    /// Write three-channel (RGB) PNGs; 8-bit grayscale otherwise. The current HAWP, L-CNN and
+    /// LETR loaders take gray; HAWP v1 (its `parsing/` tree) needs RGB.
     #[arg(long)]
     pub rgb: bool,
+    /// Scenes exported at once. The work mostly waits on the disk (every file is synced before
+    /// its rename), so more threads than cores help. The output's bytes do not depend on it.
+    #[arg(long, default_value_t = DEFAULT_JOBS)]
+    pub jobs: usize,
 }
+
+/// Default `--jobs`.
+pub const DEFAULT_JOBS: usize = 4;
 
 /// The part file's folder: one resume record per scene.
 const PARTS_DIR: &str = ".parts";
@@ -83,6 +95,9 @@ pub struct ExportSummary {
     pub images: usize,
     /// Pictures written by this run.
     pub new_images: usize,
+    /// Pictures left out because the format's loader cannot take them
+    /// (`WireframeFormat::loader_refusal`).
+    pub left_out: usize,
     /// Lines in the export.
     pub lines: usize,
     /// Wall time of this run, s.
@@ -93,11 +108,12 @@ pub struct ExportSummary {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let s = export(&args)?;
     println!(
-        "{} scenes ({} kept from an earlier run): {} images, {} lines; {} images exported in {:.2} s ({:.1} images/s) -> {}",
+        "{} scenes ({} kept from an earlier run): {} images, {} lines, {} pictures left out (the loader cannot take them); {} images exported in {:.2} s ({:.1} images/s) -> {}",
         s.scenes,
         s.resumed,
         s.images,
         s.lines,
+        s.left_out,
         s.new_images,
         s.wall_s,
         s.new_images as f64 / s.wall_s.max(1e-9),
@@ -117,25 +133,62 @@ pub fn export(args: &Args) -> anyhow::Result<ExportSummary> {
     let started = Instant::now();
     let entries = read_manifest(&args.dataset)?;
     prepare_output(args)?;
-    let bar = progress_bar(entries.len() as u64);
-    let (mut resumed, mut new_images) = (0, 0);
-    for (done, entry) in entries.iter().enumerate() {
-        match export_scene(args, entry)? {
-            Some(n) => new_images += n,
-            None => resumed += 1,
-        }
-        bar.tick_to(done as u64 + 1, entries.len() as u64);
-    }
-    bar.finish();
-    let (images, lines) = assemble(args, &entries)?;
+    let (resumed, new_images) = export_scenes(args, &entries)?;
+    let (images, lines, left_out) = assemble(args, &entries)?;
     Ok(ExportSummary {
         scenes: entries.len(),
         resumed,
         images,
         new_images,
+        left_out,
         lines,
         wall_s: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Exports every scene on `--jobs` threads, each taking the next scene not yet taken; returns
+/// how many scenes an earlier run had done and how many pictures this run wrote. The first
+/// error stops the other threads after their current scene (each scene's files are atomic and
+/// its part file comes last, so a re-run resumes).
+fn export_scenes(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, usize)> {
+    let total = entries.len() as u64;
+    let bar = progress_bar(total);
+    let next = AtomicUsize::new(0);
+    let done = AtomicU64::new(0);
+    let failed = AtomicBool::new(false);
+    let worker = || -> anyhow::Result<(usize, usize)> {
+        let (mut resumed, mut new_images) = (0, 0);
+        while !failed.load(Ordering::Relaxed) {
+            let Some(entry) = entries.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                break;
+            };
+            match export_scene(args, entry) {
+                Ok(Some(n)) => new_images += n,
+                Ok(None) => resumed += 1,
+                Err(e) => {
+                    failed.store(true, Ordering::Relaxed);
+                    return Err(e);
+                }
+            }
+            bar.tick_to(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+        }
+        Ok((resumed, new_images))
+    };
+    let results: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..args.jobs.max(1)).map(|_| s.spawn(worker)).collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    bar.finish();
+    let (mut resumed, mut new_images) = (0, 0);
+    for r in results {
+        let (a, b) = r?;
+        resumed += a;
+        new_images += b;
+    }
+    Ok((resumed, new_images))
 }
 
 /// Reads `DATASET/manifest.jsonl`.
@@ -212,46 +265,84 @@ fn export_scene(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Option<usi
     let format = args.format.format();
     let mut records = Vec::with_capacity(views.len());
     let mut images = serde_json::Map::new();
+    let mut left_out = 0usize;
     for (view, drawing_bytes, picture_bytes) in inputs {
-        let lines_path = scene_dir.join(format!("lines_{view}.json"));
-        let text = String::from_utf8(drawing_bytes)
-            .with_context(|| format!("{}: not UTF-8", lines_path.display()))?;
-        let drawing =
-            LineDrawing::from_json(&text).with_context(|| format!("{}", lines_path.display()))?;
-        let picture_path = scene_dir.join(format!("view_{view}.png"));
-        let decoded =
-            decode_gray(&picture_bytes).with_context(|| format!("{}", picture_path.display()))?;
-        let (w, h) = decoded.gray.dimensions();
-        let wf = wireframe_from_drawing(&drawing, w, h)
-            .with_context(|| format!("{}", lines_path.display()))?;
         let filename = format!("{}_{view}.png", entry.id);
-        let png = if args.rgb {
-            encode_png_rgb8(&image::DynamicImage::ImageLuma8(decoded.gray).to_rgb8())?
-        } else if decoded.converted_from.is_none() {
-            picture_bytes
-        } else {
-            encode_png_gray8(&decoded.gray)?
-        };
+        let (wf, decoded) = view_wireframe(&scene_dir, view, drawing_bytes, &picture_bytes)?;
+        if let Some(why) = format.loader_refusal(&wf) {
+            eprintln!("export-dataset: {filename} left out: {why}");
+            left_out += 1;
+            continue;
+        }
+        let png = picture_png(args.rgb, decoded, picture_bytes)?;
         let image_path = args.output.join(format.image_dir(split)).join(&filename);
         let relative = format!("{}/{filename}", format.image_dir(split));
         images.insert(relative, json!(sha256_hex(&png)));
-        write_atomic(&image_path, &png)
+        write_atomic_with(&image_path, &png, FileSync::Verified)
             .with_context(|| format!("writing {}", image_path.display()))?;
-        records.push(match (format, split) {
-            (WireframeFormat::Hawp, Split::Train) => hawp_train_record(&filename, &wf),
-            (WireframeFormat::Hawp, Split::Test) => hawp_test_record(&filename, &wf),
-            (WireframeFormat::Lcnn, _) => lcnn_record(&filename, &wf),
-            (WireframeFormat::Letr, _) => json!({
-                "image": letr_image(0, &filename, &wf),
-                "annotations": letr_annotations(0, 0, &wf),
-            }),
-        });
+        records.push(format_record(format, split, &filename, &wf));
     }
     let written = records.len();
-    let part = json!({"split": split_name(split), "images": images, "records": records});
-    write_atomic(&part_path, part.to_string().as_bytes())
+    let part = json!({
+        "split": split_name(split),
+        "images": images,
+        "records": records,
+        "left_out": left_out,
+    });
+    write_atomic_with(&part_path, part.to_string().as_bytes(), FileSync::Verified)
         .with_context(|| format!("writing {}", part_path.display()))?;
     Ok(Some(written))
+}
+
+/// The wireframe of one view from its (already hash-checked) drawing and picture bytes, and the
+/// decoded picture (its size is the wireframe's).
+fn view_wireframe(
+    scene_dir: &Path,
+    view: &str,
+    drawing_bytes: Vec<u8>,
+    picture_bytes: &[u8],
+) -> anyhow::Result<(Wireframe, DecodedPicture)> {
+    let lines_path = scene_dir.join(format!("lines_{view}.json"));
+    let text = String::from_utf8(drawing_bytes)
+        .with_context(|| format!("{}: not UTF-8", lines_path.display()))?;
+    let drawing =
+        LineDrawing::from_json(&text).with_context(|| format!("{}", lines_path.display()))?;
+    let picture_path = scene_dir.join(format!("view_{view}.png"));
+    let decoded =
+        decode_gray(picture_bytes).with_context(|| format!("{}", picture_path.display()))?;
+    let (w, h) = decoded.gray.dimensions();
+    let wf = wireframe_from_drawing(&drawing, w, h)
+        .with_context(|| format!("{}", lines_path.display()))?;
+    Ok((wf, decoded))
+}
+
+/// The exported picture: three-channel with `--rgb`; otherwise the dataset's 8-bit gray PNG
+/// byte for byte (re-encoded only when it was not 8-bit gray).
+fn picture_png(
+    rgb: bool,
+    decoded: DecodedPicture,
+    picture_bytes: Vec<u8>,
+) -> anyhow::Result<Vec<u8>> {
+    Ok(if rgb {
+        encode_png_rgb8(&image::DynamicImage::ImageLuma8(decoded.gray).to_rgb8())?
+    } else if decoded.converted_from.is_none() {
+        picture_bytes
+    } else {
+        encode_png_gray8(&decoded.gray)?
+    })
+}
+
+/// The record of one picture in `format` on side `split` (LETR's ids are set at assembly).
+fn format_record(format: WireframeFormat, split: Split, filename: &str, wf: &Wireframe) -> Value {
+    match (format, split) {
+        (WireframeFormat::Hawp, Split::Train) => hawp_train_record(filename, wf),
+        (WireframeFormat::Hawp, Split::Test) => hawp_test_record(filename, wf),
+        (WireframeFormat::Lcnn, _) => lcnn_record(filename, wf),
+        (WireframeFormat::Letr, _) => json!({
+            "image": letr_image(0, filename, wf),
+            "annotations": letr_annotations(0, 0, wf),
+        }),
+    }
 }
 
 /// Whether an earlier run finished the scene: its part file reads and every picture it lists
@@ -310,47 +401,77 @@ fn split_name(split: Split) -> &'static str {
     }
 }
 
+/// One split's annotation text as it is assembled: the serialized items (HAWP, L-CNN) or the
+/// COCO images and annotations (LETR), comma-joined.
+#[derive(Default)]
+struct SplitText {
+    items: String,
+    annotations: String,
+}
+
+fn push_json(list: &mut String, item: &Value) {
+    if !list.is_empty() {
+        list.push(',');
+    }
+    list.push_str(&item.to_string());
+}
+
 /// Joins the part files, in scene order, into the format's annotation files; returns the
-/// numbers of images and lines.
-fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, usize)> {
-    let mut records: [Vec<Value>; 2] = [Vec::new(), Vec::new()];
+/// numbers of images, lines and pictures left out. Streams: one part in memory at a time, each
+/// record serialized as it is read (the records as JSON values would take 20 times the text).
+fn assemble(args: &Args, entries: &[ManifestEntry]) -> anyhow::Result<(usize, usize, usize)> {
+    let format = args.format.format();
+    let mut texts = [SplitText::default(), SplitText::default()];
+    let (mut images, mut lines, mut left_out) = (0, 0, 0);
+    let mut next_ids = (1u64, 1u64);
     for entry in entries {
-        let path = args
-            .output
-            .join(PARTS_DIR)
-            .join(format!("{}.json", entry.id));
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("reading {}", path.display()))?;
-        let mut part: Value = serde_json::from_str(&text).with_context(|| {
-            format!(
-                "{}: damaged; delete it and re-run to redo the scene",
-                path.display()
-            )
-        })?;
-        let side = usize::from(part["split"] == "test");
-        if let Value::Array(items) = part["records"].take() {
-            records[side].extend(items);
+        let mut part = read_part(args, entry)?;
+        let text = &mut texts[usize::from(part["split"] == "test")];
+        left_out += part["left_out"].as_u64().unwrap_or(0) as usize;
+        let Value::Array(items) = part["records"].take() else {
+            continue;
+        };
+        for item in items {
+            images += 1;
+            if format == WireframeFormat::Letr {
+                lines += push_letr(text, item, &mut next_ids);
+            } else {
+                lines += line_count(&item);
+                push_json(&mut text.items, &item);
+            }
         }
     }
-    let format = args.format.format();
-    let images = records[0].len() + records[1].len();
-    let mut lines = 0;
-    let mut next_ids = (1u64, 1u64);
-    for (side, split) in [(0, Split::Train), (1, Split::Test)] {
-        let items = std::mem::take(&mut records[side]);
+    for (text, split) in texts.iter().zip([Split::Train, Split::Test]) {
         let doc = if format == WireframeFormat::Letr {
-            letr_with_ids(items, &mut next_ids, &mut lines)
+            let categories = &letr_document(Vec::new(), Vec::new())["categories"];
+            format!(
+                "{{\"annotations\":[{}],\"categories\":{categories},\"images\":[{}]}}\n",
+                text.annotations, text.items
+            )
         } else {
-            lines += items.iter().map(line_count).sum::<usize>();
-            Value::Array(items)
+            format!("[{}]\n", text.items)
         };
         let path = args.output.join(format.annotation_file(split));
-        let mut text = doc.to_string();
-        text.push('\n');
-        write_atomic(&path, text.as_bytes())
+        write_atomic(&path, doc.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    Ok((images, lines))
+    Ok((images, lines, left_out))
+}
+
+/// Reads a scene's part file.
+fn read_part(args: &Args, entry: &ManifestEntry) -> anyhow::Result<Value> {
+    let path = args
+        .output
+        .join(PARTS_DIR)
+        .join(format!("{}.json", entry.id));
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: damaged; delete it and re-run to redo the scene",
+            path.display()
+        )
+    })
 }
 
 fn line_count(record: &Value) -> usize {
@@ -362,27 +483,25 @@ fn line_count(record: &Value) -> usize {
     record[key].as_array().map_or(0, Vec::len)
 }
 
-/// The COCO document of one LETR split, numbering images and annotations from `next_ids`
-/// (ids run on across the two splits, so none repeats).
-fn letr_with_ids(items: Vec<Value>, next_ids: &mut (u64, u64), lines: &mut usize) -> Value {
-    let mut images = Vec::with_capacity(items.len());
-    let mut annotations = Vec::new();
-    for mut item in items {
-        let image_id = next_ids.0;
-        next_ids.0 += 1;
-        item["image"]["id"] = json!(image_id);
-        images.push(item["image"].take());
-        if let Value::Array(anns) = item["annotations"].take() {
-            for mut ann in anns {
-                ann["id"] = json!(next_ids.1);
-                ann["image_id"] = json!(image_id);
-                next_ids.1 += 1;
-                *lines += 1;
-                annotations.push(ann);
-            }
-        }
+/// Appends one LETR picture (its COCO image and annotations) to `text`, numbering images and
+/// annotations from `next_ids` (ids run on across the two splits, so none repeats); returns its
+/// number of lines.
+fn push_letr(text: &mut SplitText, mut item: Value, next_ids: &mut (u64, u64)) -> usize {
+    let image_id = next_ids.0;
+    next_ids.0 += 1;
+    item["image"]["id"] = json!(image_id);
+    push_json(&mut text.items, &item["image"]);
+    let Value::Array(anns) = item["annotations"].take() else {
+        return 0;
+    };
+    let n = anns.len();
+    for mut ann in anns {
+        ann["id"] = json!(next_ids.1);
+        ann["image_id"] = json!(image_id);
+        next_ids.1 += 1;
+        push_json(&mut text.annotations, &ann);
     }
-    letr_document(images, annotations)
+    n
 }
 
 /// Progress: an indicatif bar on a terminal, plain log lines (about every 5%) otherwise.

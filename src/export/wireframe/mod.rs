@@ -11,13 +11,18 @@
 //! clipped to `[0, W] x [0, H]` and their border ends marked (`junction_type` `"border"`).
 //! Every function here is pure: it turns a [`LineDrawing`] and a picture size into JSON values;
 //! the CLI reads and writes the files.
+//!
+//! Each format was checked against the tool's own loader, not only its description (the
+//! files and functions are named in `formats` and in README "Wireframe datasets"): HAWP's
+//! `TrainDataset` / `TestDatasetWithAnnotations`, L-CNN's `dataset/wireframe.py`, LETR's
+//! `src/datasets/coco.py` and `src/datasets/transforms.py`.
 
 mod formats;
 mod split;
 
 pub use formats::{
-    hawp_test_record, hawp_train_record, lcnn_record, letr_annotations, letr_document, letr_image,
-    WireframeFormat,
+    hawp_negative_edges, hawp_test_record, hawp_train_record, lcnn_record, letr_annotations,
+    letr_document, letr_image, letr_line_px, WireframeFormat, HAWP_NEGATIVE_EDGES_MAX,
 };
 pub use split::{split_of, Split};
 

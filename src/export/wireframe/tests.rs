@@ -110,9 +110,84 @@ fn records_carry_each_formats_keys() {
     let lcnn = lcnn_record("a.png", &wf);
     assert_eq!(lcnn["line_kind"][1], "convex");
     let ann = letr_annotations(7, 100, &wf);
-    assert_eq!(ann[1]["line"], serde_json::json!([10.0, 70.0, 0.0, -60.0]));
+    // The vertical line starts at its upper end (raster y 10), as LETR's transforms assume.
+    assert_eq!(ann[1]["line"], serde_json::json!([10.0, 10.0, 0.0, 60.0]));
     assert_eq!(ann[1]["id"], 101);
     assert_eq!(ann[1]["category_id"], 0);
+    assert_eq!(ann[1]["area"], 1);
+    assert_eq!(train["edges_negative"], serde_json::json!([[1, 2]]));
+}
+
+#[test]
+fn hawp_negatives_are_the_unjoined_junction_pairs_capped() {
+    // A fan of n lines from one point: n + 1 junctions, every pair of fan tips unjoined.
+    let fan = |n: usize| {
+        let mut d = LineDrawing {
+            points: vec![DVec2::new(1.0, 1.0)],
+            ..Default::default()
+        };
+        for i in 0..n {
+            d.points.push(DVec2::new(2.0 + i as f64 * 0.01, 50.0));
+            d.lines.push([0, i + 1]);
+        }
+        wireframe_from_drawing(&d, 100, 80).unwrap()
+    };
+    let small = hawp_negative_edges(&fan(3));
+    assert_eq!(small, [[1, 2], [1, 3], [2, 3]]);
+    // 70 tips: 70 * 69 / 2 = 2415 unjoined pairs, cut to HAWP's 2000.
+    let big = hawp_negative_edges(&fan(70));
+    assert_eq!(big.len(), HAWP_NEGATIVE_EDGES_MAX);
+    assert!(big.iter().all(|&[i, j]| i >= 1 && i < j));
+}
+
+#[test]
+fn letr_lines_start_at_the_left_end_with_their_border_flags() {
+    let mut d = corner();
+    // Line 0 runs right to left and leaves through the left edge: x from 60 to -40.
+    d.points[1] = DVec2::new(-40.0, 10.0);
+    d.points[0] = DVec2::new(60.0, 10.0);
+    d.points[2] = DVec2::new(60.0, 70.0);
+    let wf = wireframe_from_drawing(&d, 100, 80).unwrap();
+    assert_eq!(wf.line_px(0), [60.0, 70.0, 0.0, 70.0]);
+    assert_eq!(wf.border_ends(0), [false, true]);
+    let (line, border) = letr_line_px(&wf, 0);
+    assert_eq!(line, [0.0, 70.0, 60.0, 70.0]);
+    assert_eq!(border, [true, false]);
+    let ann = letr_annotations(1, 1, &wf);
+    assert_eq!(ann[0]["line"], serde_json::json!([0.0, 70.0, 60.0, 0.0]));
+    assert_eq!(ann[0]["border_ends"], serde_json::json!([true, false]));
+    // Every exported line: dx > 0, or dx == 0 and dy >= 0.
+    for a in &ann {
+        let (dx, dy) = (
+            a["line"][2].as_f64().unwrap(),
+            a["line"][3].as_f64().unwrap(),
+        );
+        assert!(dx > 0.0 || (dx == 0.0 && dy >= 0.0), "{a}");
+    }
+}
+
+#[test]
+fn pictures_the_loaders_cannot_take_are_refused_by_format() {
+    let empty = wireframe_from_drawing(&LineDrawing::default(), 100, 80).unwrap();
+    assert!(WireframeFormat::Hawp.loader_refusal(&empty).is_some());
+    assert!(WireframeFormat::Lcnn.loader_refusal(&empty).is_some());
+    assert!(WireframeFormat::Letr.loader_refusal(&empty).is_none());
+    // A triangle: every junction pair is a line, so L-CNN has no negative; HAWP takes it.
+    let triangle = LineDrawing {
+        points: vec![
+            DVec2::new(10.0, 10.0),
+            DVec2::new(60.0, 10.0),
+            DVec2::new(10.0, 70.0),
+        ],
+        lines: vec![[0, 1], [1, 2], [2, 0]],
+        ..Default::default()
+    };
+    let wf = wireframe_from_drawing(&triangle, 100, 80).unwrap();
+    assert!(WireframeFormat::Lcnn.loader_refusal(&wf).is_some());
+    assert!(WireframeFormat::Hawp.loader_refusal(&wf).is_none());
+    // The open corner has the unjoined pair of its two ends.
+    let wf = wireframe_from_drawing(&corner(), 100, 80).unwrap();
+    assert!(WireframeFormat::Lcnn.loader_refusal(&wf).is_none());
 }
 
 #[test]

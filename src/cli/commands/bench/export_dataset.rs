@@ -2,7 +2,7 @@
 //! (README "Wireframe datasets"), each into a fresh temporary folder that is removed afterwards.
 
 use super::machine::banner;
-use crate::cli::commands::export_dataset::{export, Args as ExportArgs, FormatArg};
+use crate::cli::commands::export_dataset::{export, Args as ExportArgs, FormatArg, DEFAULT_JOBS};
 use std::path::PathBuf;
 
 /// Options of `blockworld bench export-dataset`.
@@ -43,6 +43,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             split: 0.9,
             split_seed: 0,
             rgb,
+            jobs: DEFAULT_JOBS,
         });
         let _ = std::fs::remove_dir_all(&dir);
         let s = result?;
