@@ -14,6 +14,7 @@
 mod blocks_catalog;
 mod catalog;
 mod error;
+mod extensions;
 mod gradient;
 mod graph;
 mod label;
@@ -23,6 +24,10 @@ mod words;
 
 pub use catalog::{rotations, Catalog, CatalogEntry, BLOCKS_EXTENSIONS, HUFFMAN_CLOWES};
 pub use error::KanadeError;
+pub use extensions::{
+    extension_reason, junction_facts, ExtensionReason, JunctionFacts, RowFacts,
+    SAME_POINT_TOLERANCE_MM,
+};
 pub use gradient::{
     depth_rms_px, gradient_label_sets, orthonormal_axes, recover_shape, surface_connection_graph,
     GradientSpace, LinkKind, ShapeRecovery, SurfaceConnectionGraph, SurfaceLink,
