@@ -6,11 +6,12 @@ use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
-    check_labelling, computer_words, depth_rms_px, extension_reason, gradient_label_sets,
-    is_consistent, junction_facts, junction_sites, label_drawing, labelling_from_kinds,
-    orthographic_px_per_mm, recover_shape, rotations, surface_connection_graph, true_line_ends_px,
-    Catalog, EndLabel, ExtensionReason, JunctionFacts, LabelOptions, LabelReport, LineLabel,
-    RowFacts, BLOCKS_EXTENSIONS,
+    check_labelling, computer_words, depth_rms_px, derived_rows, extension_reason,
+    gradient_label_sets, is_consistent, junction_facts, junction_sites, label_drawing,
+    labelling_from_kinds, orthographic_px_per_mm, recover_shape, smallest_rotation,
+    surface_connection_graph, true_line_ends_px, Catalog, DerivationRule, EndLabel,
+    ExtensionReason, JunctionFacts, LabelOptions, LabelReport, LineLabel, RowFacts,
+    BLOCKS_EXTENSIONS,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
@@ -344,11 +345,7 @@ fn training_extensions() -> Extensions {
                 {
                     continue;
                 }
-                let rep = rotations(s.junction, n)
-                    .into_iter()
-                    .map(|k| (0..n).map(|i| here[(i + k) % n]).collect::<Vec<_>>())
-                    .min()
-                    .unwrap();
+                let rep = smallest_rotation(s.junction, &here);
                 seen.entry((format!("{:?}", s.junction), rep))
                     .or_default()
                     .push(Sighting {
@@ -475,7 +472,9 @@ fn catalog_doc(seen: &Extensions) -> String {
         let (slug, title) = (reason.slug(), reason.title());
         s.push_str(&format!("| [{title}](#{slug}) | {} | {n} |\n", rows.len()));
     }
-    s.push_str(&format!("| all | {} | |\n", seen.len()));
+    let total: usize = seen.values().map(Vec::len).sum();
+    s.push_str(&format!("| all | {} | {total} |\n", seen.len()));
+    s.push_str(&derivation_section(seen));
     for reason in ExtensionReason::ALL {
         s.push_str(&catalog_doc_section(
             reason,
@@ -483,6 +482,38 @@ fn catalog_doc(seen: &Extensions) -> String {
         ));
     }
     s
+}
+
+fn derivation_section(seen: &Extensions) -> String {
+    let mut s = String::from(
+        "\n## Rows that follow from rules\n\n\
+         These rules derive rows without looking at any scene (`kanade::derived_rows`); the \
+         training scenes are the check: the test fails when a derived row is not among the rows \
+         they show. The other rows are learned from the scenes and argued by their reason below.\n",
+    );
+    for rule in DerivationRule::ALL {
+        let rows = rule.rows();
+        let n: usize = rows
+            .iter()
+            .filter_map(|r| seen.get(&(format!("{:?}", r.junction), r.labels.clone())))
+            .map(Vec::len)
+            .sum();
+        s.push_str(&format!(
+            "\n- `{}` ({} rows, {n} sightings): {}\n",
+            rule.slug(),
+            rows.len(),
+            rule.argument()
+        ));
+    }
+    s
+}
+
+/// The rule a row follows from, or `learned`.
+fn row_rule(junction: &str, labels: &[EndLabel]) -> &'static str {
+    derived_rows()
+        .iter()
+        .find(|r| format!("{:?}", r.junction) == junction && r.labels == labels)
+        .map_or("learned", |r| r.rule.slug())
 }
 
 fn catalog_doc_section(
@@ -495,8 +526,8 @@ fn catalog_doc_section(
         reason.title(),
         reason.argument()
     );
-    s.push_str("| junction | labels | seen | in space | blocks (most) | example |\n");
-    s.push_str("|---|---|---|---|---|---|\n");
+    s.push_str("| junction | labels | rule | seen | in space | blocks (most) | example |\n");
+    s.push_str("|---|---|---|---|---|---|---|\n");
     for (j, labels, sightings) in rows {
         let f = row_facts(sightings);
         let ex = sightings
@@ -505,8 +536,9 @@ fn catalog_doc_section(
             .unwrap_or(&sightings[0]);
         let l: Vec<String> = labels.iter().map(|l| l.symbol().to_string()).collect();
         s.push_str(&format!(
-            "| {j} | `{}` | {} | {} | {} | {} seed {}, {}, point {} at ({:.1}, {:.1}) px |\n",
+            "| {j} | `{}` | {} | {} | {} | {} | {} seed {}, {}, point {} at ({:.1}, {:.1}) px |\n",
             l.join(" "),
+            row_rule(j, labels),
             f.sightings,
             f.in_space,
             f.max_blocks,
@@ -537,6 +569,19 @@ fn blocks_catalog_and_its_document_are_what_the_training_scenes_show() {
             );
         }
     }
+    for r in derived_rows() {
+        let key = (format!("{:?}", r.junction), r.labels.clone());
+        assert!(
+            seen.contains_key(&key),
+            "{r:?} follows from its rule but no scene shows it"
+        );
+    }
+    // The seam-ends-on-line argument: a seam never ends on a convex edge (T `+ + c`).
+    let convex_end = (
+        "T".to_string(),
+        vec![EndLabel::Plus, EndLabel::Plus, EndLabel::Crack],
+    );
+    assert!(!seen.contains_key(&convex_end));
     check_generated(
         "src/kanade/blocks_catalog.rs",
         &blocks_catalog_source(&seen),
@@ -593,7 +638,7 @@ fn blocks_catalog_document_check_catches_a_missing_and_an_extra_row() {
     let doc = std::fs::read_to_string(CATALOG_DOC).unwrap();
     let t_crack = doc
         .lines()
-        .find(|l| l.starts_with("| T | `L R c` |"))
+        .find(|l| l.starts_with("| T | `L R c` | seam-ends-on-line |"))
         .unwrap();
     let missing = doc.replace(&format!("{t_crack}\n"), "");
     let bad = document_disagreements(&missing);

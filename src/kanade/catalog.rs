@@ -201,6 +201,17 @@ pub fn rotations(junction: Junction, n: usize) -> Vec<usize> {
     }
 }
 
+/// The rotation of `labels` (a junction's labels in canonical order) that the catalogs write:
+/// the smallest, in `EndLabel` order, of those [`rotations`] allows.
+pub fn smallest_rotation(junction: Junction, labels: &[EndLabel]) -> Vec<EndLabel> {
+    let n = labels.len();
+    rotations(junction, n)
+        .into_iter()
+        .map(|k| (0..n).map(|i| labels[(i + k) % n]).collect::<Vec<_>>())
+        .min()
+        .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
