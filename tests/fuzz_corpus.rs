@@ -91,3 +91,18 @@ fn the_label_seeds_are_the_paip_drawings() {
     assert_eq!((d.points.len(), d.lines.len()), (7, 9));
     assert!(blockworld::kanade::validate(&d).is_ok());
 }
+
+#[test]
+fn the_recognize_seed_of_a_cube_reaches_the_parallelogram_search() {
+    // The single cube's exact NE drawing at 2 px steps (framed by the fixture's camera, not
+    // the target's, so the recognizer may decline it): the seed gets past the readers' checks
+    // into the parallelogram search, so mutations of it explore the recognizer itself.
+    use blockworld::recognize::{recognize, RecognizeOptions};
+    let seed = std::fs::read("tests/fuzz/seeds/recognize/single_cube_ne.bin").unwrap();
+    let views = recognizer_fuzz_views(&seed);
+    assert_eq!(views.len(), 1);
+    assert!(views[0].drawing.check().is_ok());
+    let answer = recognize(&views, &RecognizeOptions::default()).unwrap();
+    let ne = &answer.evidence.views[0];
+    assert!(ne.parallelograms > 0 && ne.proposals > 0, "{ne:?}");
+}
