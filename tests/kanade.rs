@@ -6,10 +6,12 @@ use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::kanade::{
-    check_labelling, computer_words, depth_rms_px, gradient_label_sets, is_consistent,
-    junction_sites, label_drawing, labelling_from_kinds, orthographic_px_per_mm, recover_shape,
-    rotations, surface_connection_graph, true_line_ends_px, Catalog, EndLabel, LabelOptions,
-    LabelReport, LineLabel,
+    check_labelling, computer_words, depth_rms_px, derived_rows, extension_reason,
+    gradient_label_sets, is_consistent, junction_facts, junction_sites, label_drawing,
+    labelling_from_kinds, orthographic_px_per_mm, recover_shape, smallest_rotation,
+    surface_connection_graph, true_line_ends_px, Catalog, DerivationRule, EndLabel,
+    ExtensionReason, JunctionFacts, LabelOptions, LabelReport, LineLabel, RowFacts,
+    BLOCKS_EXTENSIONS,
 };
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
@@ -286,7 +288,9 @@ fn a_wrong_arrow_side_is_caught() {
 // The blocks catalog: what the training scenes show
 // ---------------------------------------------------------------------------------------------
 
-fn training_scenes() -> Vec<Scene> {
+/// The 440 training scenes as (ChaCha8 seed, family name, scene): 40 per generator family,
+/// seeds 1000-1439, family `Family::ALL[seed % 11]`.
+fn training_scenes() -> Vec<(u64, &'static str, Scene)> {
     use blockworld::dataset::{family_scene, Family};
     use rand::SeedableRng;
     let mut out = Vec::new();
@@ -294,20 +298,38 @@ fn training_scenes() -> Vec<Scene> {
         let family = Family::ALL[(i % 11) as usize];
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1000 + i);
         if let Some(blocks) = family.draw(&mut rng) {
-            out.push(family_scene(family, "training", blocks));
+            out.push((
+                1000 + i,
+                family.name(),
+                family_scene(family, "training", blocks),
+            ));
         }
     }
     out
 }
 
-/// (junction, labels at the smallest rotation) -> how often seen, beyond Huffman-Clowes.
-fn training_extensions() -> std::collections::BTreeMap<(String, Vec<EndLabel>), usize> {
-    let mut seen = std::collections::BTreeMap::new();
-    for scene in training_scenes() {
+/// Where one extension row was seen: a junction of a training scene's exact drawing.
+#[derive(Debug, Clone)]
+struct Sighting {
+    /// The training scene's ChaCha8 seed.
+    seed: u64,
+    family: &'static str,
+    view: CornerView,
+    junction: Junction,
+    point: usize,
+    point_px: DVec2,
+    facts: JunctionFacts,
+}
+
+/// (junction, labels at the smallest rotation) -> every sighting, beyond Huffman-Clowes.
+type Extensions = std::collections::BTreeMap<(String, Vec<EndLabel>), Vec<Sighting>>;
+
+fn training_extensions() -> Extensions {
+    let mut seen = Extensions::new();
+    for (seed, family, scene) in &training_scenes() {
         for view in VIEWS {
-            let (d, labels) = truth(&scene, view);
-            let sites = junction_sites(&d);
-            for s in &sites {
+            let (d, labels) = truth(scene, view);
+            for s in &junction_sites(&d) {
                 if s.ends.is_empty() {
                     continue;
                 }
@@ -323,21 +345,37 @@ fn training_extensions() -> std::collections::BTreeMap<(String, Vec<EndLabel>), 
                 {
                     continue;
                 }
-                let rep = rotations(s.junction, n)
-                    .into_iter()
-                    .map(|k| (0..n).map(|i| here[(i + k) % n]).collect::<Vec<_>>())
-                    .min()
-                    .unwrap();
-                *seen.entry((format!("{:?}", s.junction), rep)).or_insert(0) += 1;
+                let rep = smallest_rotation(s.junction, &here);
+                seen.entry((format!("{:?}", s.junction), rep))
+                    .or_default()
+                    .push(Sighting {
+                        seed: *seed,
+                        family,
+                        view,
+                        junction: s.junction,
+                        point: s.point,
+                        point_px: d.points[s.point],
+                        facts: junction_facts(&d, s).unwrap(),
+                    });
             }
         }
     }
     seen
 }
 
-fn blocks_catalog_source(
-    seen: &std::collections::BTreeMap<(String, Vec<EndLabel>), usize>,
-) -> String {
+fn row_facts(sightings: &[Sighting]) -> RowFacts {
+    let mut f = RowFacts::default();
+    for s in sightings {
+        f.add(s.facts);
+    }
+    f
+}
+
+fn row_reason(labels: &[EndLabel], sightings: &[Sighting]) -> ExtensionReason {
+    extension_reason(sightings[0].junction, labels, &row_facts(sightings))
+}
+
+fn blocks_catalog_source(seen: &Extensions) -> String {
     let letter = |l: &EndLabel| match l {
         EndLabel::Plus => "P",
         EndLabel::Minus => "M",
@@ -347,18 +385,24 @@ fn blocks_catalog_source(
     };
     let mut s = String::from(
         "//! The `blocks` catalog's extensions, generated from the exact drawings of the training scenes\n\
-         //! (see `catalog`); `BLESS=1 cargo test --test kanade blocks_catalog` rewrites this file.\n\n\
+         //! (see `catalog`; every row argued in `docs/kanade-blocks-catalog.md`);\n\
+         //! `BLESS=1 cargo test --test kanade blocks_catalog_and_its_document` rewrites this file and\n\
+         //! the document.\n\n\
          use super::catalog::{e, CatalogEntry};\n\
          use super::label::EndLabel::{Crack as C, In as L, Minus as M, Out as R, Plus as P};\n\
          use crate::drawing::Junction;\n\n\
          /// The junction labellings that stacked blocks show beyond the trihedral catalog, each with how\n\
-         /// often the training scenes showed it (canonical line order, smallest rotation).\n\
+         /// often the training scenes showed it and its reason (`kanade::ExtensionReason::slug`), in\n\
+         /// canonical line order at the smallest rotation (one row a line, as generated).\n\
+         #[rustfmt::skip]\n\
          pub const BLOCKS_EXTENSIONS: &[CatalogEntry] = &[\n",
     );
-    for ((j, labels), n) in seen {
+    for ((j, labels), sightings) in seen {
+        let n = sightings.len();
         let l: Vec<&str> = labels.iter().map(letter).collect();
+        let reason = row_reason(labels, sightings).slug();
         s.push_str(&format!(
-            "    e(Junction::{j}, &[{}], \"seen {n} times\"),\n",
+            "    e(Junction::{j}, &[{}], \"seen {n} times, {reason}\"),\n",
             l.join(", ")
         ));
     }
@@ -366,20 +410,245 @@ fn blocks_catalog_source(
     s
 }
 
-#[test]
-fn blocks_catalog_is_what_the_training_scenes_show() {
-    let seen = training_extensions();
-    let want = blocks_catalog_source(&seen);
-    let path = "src/kanade/blocks_catalog.rs";
+/// Rewrites `path` with `want` under `BLESS=1`, then fails unless it holds `want`.
+fn check_generated(path: &str, want: &str) {
     if std::env::var("BLESS").is_ok_and(|v| v == "1") {
-        std::fs::write(path, &want).unwrap();
+        std::fs::write(path, want).unwrap();
     }
-    let have = std::fs::read_to_string(path).unwrap();
+    let have = std::fs::read_to_string(path).unwrap_or_default();
     assert!(
         have == want,
-        "{path} differs from the training scenes' junctions; review and rerun with BLESS=1"
+        "{path} differs from the training scenes' junctions; review and rerun \
+         `BLESS=1 cargo test --test kanade blocks_catalog_and_its_document`"
     );
+}
+
+const CATALOG_DOC: &str = "docs/kanade-blocks-catalog.md";
+
+const CATALOG_DOC_INTRO: &str = "# The `blocks` junction catalog: every extension argued
+
+Generated, do not edit: `BLESS=1 cargo test --test kanade blocks_catalog_and_its_document`
+rewrites this file and
+`src/kanade/blocks_catalog.rs` from the training scenes; `cargo test --test kanade blocks_catalog`
+fails when either differs from what the scenes show, and when a catalog row has no entry here.
+
+`blockworld label --catalog blocks` labels with the Huffman-Clowes catalog (18 labellings, PAIP
+ch. 17) plus the rows below. Huffman and Clowes found their catalog by listing the corners one
+trihedral solid in general position can show; the rows below are found the same way for stacks
+of boxes, by drawing them: every junction of the exact drawings (`render::truth`) of 440
+training scenes (40 per generator family, ChaCha8 seeds 1000-1439, family
+`Family::ALL[seed % 11]`, drawn by `Family::draw`; the four corner views, each camera framing all
+block vertices with the default options; disjoint from the accuracy suite `scenes/bench`) with
+its true labels (`kanade::labelling_from_kinds`). A junction whose labels are not trihedral is
+a row. Each row's reason follows from stated rules (`kanade::extension_reason`) over its labels
+and two 3D facts of its sightings (`kanade::junction_facts`): how many blocks own its lines
+and whether the lines meet at one 3D point (within 1e-3 mm) or only in the picture.
+
+Labels: `+` convex, `-` concave, `R` occluding arrow pointing away from the junction, `L`
+pointing at it (PAIP's letters; walking along the arrow the occluding face is on the right),
+`c` crack. Lines in the canonical order of `kanade::JunctionSite`: fork clockwise; arrow the two
+barbs then the shaft; T the bar's two halves then the stem; K counterclockwise from the half of
+the collinear pair that has the other two before its partner; five and more lines
+counterclockwise from the line after the widest gap; psi, X and straight counterclockwise from
+the lowest angle. Rows are written at their smallest rotation; the labeller adds the rotations
+the geometry does not fix (`kanade::rotations`). Example: the first sighting (in seed, view and
+point order) that agrees with the row's majority fact, as scene family and seed, corner view, and
+point index and position in picture px (x right, y up, origin bottom-left) of the exact drawing.
+";
+
+fn catalog_doc(seen: &Extensions) -> String {
+    let mut by_reason: std::collections::BTreeMap<ExtensionReason, Vec<_>> = Default::default();
+    for ((j, labels), sightings) in seen {
+        by_reason
+            .entry(row_reason(labels, sightings))
+            .or_default()
+            .push((j, labels, sightings));
+    }
+    let mut s = String::from(CATALOG_DOC_INTRO);
+    s.push_str("\n| reason | rows | sightings |\n|---|---|---|\n");
+    for reason in ExtensionReason::ALL {
+        let rows = by_reason.get(&reason).map_or(&[][..], |v| &v[..]);
+        let n: usize = rows.iter().map(|r| r.2.len()).sum();
+        let (slug, title) = (reason.slug(), reason.title());
+        s.push_str(&format!("| [{title}](#{slug}) | {} | {n} |\n", rows.len()));
+    }
+    let total: usize = seen.values().map(Vec::len).sum();
+    s.push_str(&format!("| all | {} | {total} |\n", seen.len()));
+    s.push_str(&derivation_section(seen));
+    for reason in ExtensionReason::ALL {
+        s.push_str(&catalog_doc_section(
+            reason,
+            by_reason.get(&reason).map_or(&[][..], |v| &v[..]),
+        ));
+    }
+    s
+}
+
+fn derivation_section(seen: &Extensions) -> String {
+    let mut s = String::from(
+        "\n## Rows that follow from rules\n\n\
+         These rules derive rows without looking at any scene (`kanade::derived_rows`); the \
+         training scenes are the check: the test fails when a derived row is not among the rows \
+         they show. The other rows are learned from the scenes and argued by their reason below.\n",
+    );
+    for rule in DerivationRule::ALL {
+        let rows = rule.rows();
+        let n: usize = rows
+            .iter()
+            .filter_map(|r| seen.get(&(format!("{:?}", r.junction), r.labels.clone())))
+            .map(Vec::len)
+            .sum();
+        s.push_str(&format!(
+            "\n- `{}` ({} rows, {n} sightings): {}\n",
+            rule.slug(),
+            rows.len(),
+            rule.argument()
+        ));
+    }
+    s
+}
+
+/// The rule a row follows from, or `learned`.
+fn row_rule(junction: &str, labels: &[EndLabel]) -> &'static str {
+    derived_rows()
+        .iter()
+        .find(|r| format!("{:?}", r.junction) == junction && r.labels == labels)
+        .map_or("learned", |r| r.rule.slug())
+}
+
+fn catalog_doc_section(
+    reason: ExtensionReason,
+    rows: &[(&String, &Vec<EndLabel>, &Vec<Sighting>)],
+) -> String {
+    let mut s = format!(
+        "\n## <a id=\"{}\"></a>{}\n\n{}\n\n",
+        reason.slug(),
+        reason.title(),
+        reason.argument()
+    );
+    s.push_str("| junction | labels | rule | seen | in space | blocks (most) | example |\n");
+    s.push_str("|---|---|---|---|---|---|---|\n");
+    for (j, labels, sightings) in rows {
+        let f = row_facts(sightings);
+        let ex = sightings
+            .iter()
+            .find(|x| x.facts.in_space == f.mostly_in_space())
+            .unwrap_or(&sightings[0]);
+        let l: Vec<String> = labels.iter().map(|l| l.symbol().to_string()).collect();
+        s.push_str(&format!(
+            "| {j} | `{}` | {} | {} | {} | {} | {} seed {}, {}, point {} at ({:.1}, {:.1}) px |\n",
+            l.join(" "),
+            row_rule(j, labels),
+            f.sightings,
+            f.in_space,
+            f.max_blocks,
+            ex.family,
+            ex.seed,
+            ex.view.name(),
+            ex.point,
+            ex.point_px.x,
+            ex.point_px.y,
+        ));
+    }
+    s
+}
+
+/// The one command that regenerates both files:
+/// `BLESS=1 cargo test --test kanade blocks_catalog_and_its_document`.
+#[test]
+fn blocks_catalog_and_its_document_are_what_the_training_scenes_show() {
+    let seen = training_extensions();
     println!("{} extension rows", seen.len());
+    for ((j, labels), sightings) in &seen {
+        let reason = row_reason(labels, sightings);
+        if reason == ExtensionReason::FaceSeenEdgeOn {
+            // The argument names the yawed family as the only source of edge-on faces.
+            assert!(
+                sightings.iter().all(|s| s.family == "yaw"),
+                "{j} {labels:?}"
+            );
+        }
+    }
+    for r in derived_rows() {
+        let key = (format!("{:?}", r.junction), r.labels.clone());
+        assert!(
+            seen.contains_key(&key),
+            "{r:?} follows from its rule but no scene shows it"
+        );
+    }
+    // The seam-ends-on-line argument: a seam never ends on a convex edge (T `+ + c`).
+    let convex_end = (
+        "T".to_string(),
+        vec![EndLabel::Plus, EndLabel::Plus, EndLabel::Crack],
+    );
+    assert!(!seen.contains_key(&convex_end));
+    check_generated(
+        "src/kanade/blocks_catalog.rs",
+        &blocks_catalog_source(&seen),
+    );
+    check_generated(CATALOG_DOC, &catalog_doc(&seen));
+}
+
+/// The rows (junction, labels) that the document's tables list.
+fn document_rows(doc: &str) -> Vec<(String, String)> {
+    doc.lines()
+        .filter_map(|line| {
+            let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+            let labels = cells.get(2)?.strip_prefix('`')?.strip_suffix('`')?;
+            Some((cells[1].to_string(), labels.replace(' ', "")))
+        })
+        .collect()
+}
+
+/// The rows of [`BLOCKS_EXTENSIONS`] missing from `doc`, and the rows `doc` lists that the
+/// catalog lacks (or lists twice).
+fn document_disagreements(doc: &str) -> Vec<String> {
+    let catalog: Vec<(String, String)> = BLOCKS_EXTENSIONS
+        .iter()
+        .map(|r| {
+            let l: String = r.labels.iter().map(|l| l.symbol()).collect();
+            (format!("{:?}", r.junction), l)
+        })
+        .collect();
+    let listed = document_rows(doc);
+    let mut out: Vec<String> = catalog
+        .iter()
+        .filter(|r| !listed.contains(r))
+        .map(|r| format!("catalog row {r:?} has no entry in {CATALOG_DOC}"))
+        .collect();
+    for (i, r) in listed.iter().enumerate() {
+        if !catalog.contains(r) || listed[..i].contains(r) {
+            out.push(format!(
+                "{CATALOG_DOC} lists {r:?}, which is not one catalog row"
+            ));
+        }
+    }
+    out
+}
+
+#[test]
+fn blocks_catalog_document_lists_every_row_of_the_catalog_once() {
+    let doc = std::fs::read_to_string(CATALOG_DOC).unwrap();
+    assert_eq!(document_rows(&doc).len(), BLOCKS_EXTENSIONS.len());
+    assert_eq!(document_disagreements(&doc), Vec::<String>::new());
+}
+
+#[test]
+fn blocks_catalog_document_check_catches_a_missing_and_an_extra_row() {
+    let doc = std::fs::read_to_string(CATALOG_DOC).unwrap();
+    let t_crack = doc
+        .lines()
+        .find(|l| l.starts_with("| T | `L R c` | seam-ends-on-line |"))
+        .unwrap();
+    let missing = doc.replace(&format!("{t_crack}\n"), "");
+    let bad = document_disagreements(&missing);
+    assert!(bad.len() == 1 && bad[0].contains("\"LRc\""), "{bad:?}");
+    let extra = doc.replace(
+        t_crack,
+        &format!("{t_crack}\n| K | `+ + + +` | 1 | 1 | 2 | x |"),
+    );
+    let bad = document_disagreements(&extra);
+    assert!(bad.len() == 1 && bad[0].contains("\"++++\""), "{bad:?}");
 }
 
 // ---------------------------------------------------------------------------------------------

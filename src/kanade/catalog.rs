@@ -27,8 +27,12 @@
 //! the same way for block stacks, by drawing them: every junction of the exact drawings
 //! (`render::truth`) of 440 generated scenes (40 per generator family, seeds 1000-1439, four
 //! corner views; disjoint from the accuracy suite `scenes/bench`, seed 2026) with its true
-//! labels, each row noting how often it was seen. `tests/kanade.rs` redraws the scenes and fails
-//! when the table differs (`BLESS=1` rewrites `blocks_catalog.rs`).
+//! labels, each row noting how often it was seen and why stacked blocks need it
+//! ([`super::ExtensionReason`], chosen by the rules of [`super::extension_reason`] from the
+//! row's labels and the 3D facts of its sightings). `docs/kanade-blocks-catalog.md` lists every
+//! row with its reason, the argument and an example junction. `tests/kanade.rs` redraws the
+//! scenes and fails when the table or the document differs, or when a row has no entry in the
+//! document; `BLESS=1 cargo test --test kanade blocks_catalog_and_its_document` rewrites both.
 //!
 //! Labels are local: a catalog only says which corners exist, so an impossible figure whose
 //! every junction is possible (a Penrose triangle) is labelled.
@@ -195,6 +199,17 @@ pub fn rotations(junction: Junction, n: usize) -> Vec<usize> {
         Junction::Psi => vec![0, 2],
         _ => vec![0],
     }
+}
+
+/// The rotation of `labels` (a junction's labels in canonical order) that the catalogs write:
+/// the smallest, in `EndLabel` order, of those [`rotations`] allows.
+pub fn smallest_rotation(junction: Junction, labels: &[EndLabel]) -> Vec<EndLabel> {
+    let n = labels.len();
+    rotations(junction, n)
+        .into_iter()
+        .map(|k| (0..n).map(|i| labels[(i + k) % n]).collect::<Vec<_>>())
+        .min()
+        .unwrap_or_default()
 }
 
 #[cfg(test)]

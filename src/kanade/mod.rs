@@ -14,6 +14,7 @@
 mod blocks_catalog;
 mod catalog;
 mod error;
+mod extensions;
 mod gradient;
 mod graph;
 mod label;
@@ -21,8 +22,14 @@ mod truth;
 mod waltz;
 mod words;
 
-pub use catalog::{rotations, Catalog, CatalogEntry, BLOCKS_EXTENSIONS, HUFFMAN_CLOWES};
+pub use catalog::{
+    rotations, smallest_rotation, Catalog, CatalogEntry, BLOCKS_EXTENSIONS, HUFFMAN_CLOWES,
+};
 pub use error::KanadeError;
+pub use extensions::{
+    derived_rows, extension_reason, junction_facts, DerivationRule, DerivedRow, ExtensionReason,
+    JunctionFacts, RowFacts, SAME_POINT_TOLERANCE_MM,
+};
 pub use gradient::{
     depth_rms_px, gradient_label_sets, orthonormal_axes, recover_shape, surface_connection_graph,
     GradientSpace, LinkKind, ShapeRecovery, SurfaceConnectionGraph, SurfaceLink,

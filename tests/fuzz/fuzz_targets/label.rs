@@ -1,67 +1,14 @@
 //! Fuzz target for Kanade's labeller (`blockworld label`): arbitrary bytes become a line
-//! drawing — points from byte pairs (some far out, some repeated, some NaN), lines from index
-//! pairs that may name missing points or join a point to itself — and run through validation,
-//! labelling with both catalogs and the outer-boundary constraint, the labelling check and
-//! shape recovery. Errors are fine; nothing may panic or hang (a small node budget bounds each
-//! run). `tests/kanade.rs` (`random_drawings_never_panic`) runs seeded random drawings through
+//! drawing and run through validation, both catalogs, the labelling check and shape recovery;
+//! the property lives in `label_check.rs`, which `tests/fuzz_corpus.rs` replays over the
+//! committed corpus `tests/fuzz/seeds/label/`, and `tests/kanade.rs`
+//! (`random_drawings_never_panic_and_found_labellings_check`) runs seeded random drawings through
 //! the same library calls, so CI needs no nightly compiler.
 //!
-//! Run: `RUSTC_BOOTSTRAP=1 cargo fuzz run --fuzz-dir tests/fuzz label -- -max_total_time=150`.
+//! Run (README "Exit codes and progress output", fuzzing): `cargo +nightly fuzz run --fuzz-dir
+//! tests/fuzz label tests/fuzz/corpus/label tests/fuzz/seeds/label -- -max_total_time=300`.
 #![no_main]
 
-use blockworld::drawing::LineDrawing;
-use blockworld::geom::DVec2;
-use blockworld::kanade::{check_labelling, label_drawing, recover_shape, Catalog, LabelOptions};
-use libfuzzer_sys::fuzz_target;
+include!("label_check.rs");
 
-fn drawing(data: &[u8]) -> LineDrawing {
-    let (n_points, rest) = data.split_first().map_or((0, &[][..]), |(n, r)| (*n as usize % 48, r));
-    let coord = |b: u8| match b {
-        255 => f64::NAN,
-        254 => 1e300,
-        _ => f64::from(b) * 4.0,
-    };
-    let points: Vec<DVec2> = rest
-        .chunks_exact(2)
-        .take(n_points)
-        .map(|c| DVec2::new(coord(c[0]), coord(c[1])))
-        .collect();
-    let lines = rest
-        .get(2 * points.len()..)
-        .unwrap_or(&[])
-        .chunks_exact(2)
-        .take(96)
-        .map(|c| [c[0] as usize % 50, c[1] as usize % 50])
-        .collect();
-    LineDrawing {
-        points,
-        lines,
-        ..Default::default()
-    }
-}
-
-fuzz_target!(|data: &[u8]| {
-    let d = drawing(data);
-    for catalog in [Catalog::HuffmanClowes, Catalog::Blocks] {
-        let opts = LabelOptions {
-            catalog,
-            boundary_occluding: data.len() % 2 == 0,
-            limit: 3,
-            node_budget: 20_000,
-            ..Default::default()
-        };
-        let Ok(r) = label_drawing(&d, &opts, &mut |_| {}) else {
-            return;
-        };
-        assert!(r.labellings.len() <= 3);
-        assert!(r.count.value >= r.labellings.len() as u128 || !r.count.exact);
-        for l in &r.labellings {
-            let _ = recover_shape(&d, l);
-            let full: Option<Vec<_>> = l.iter().copied().collect();
-            if let Some(full) = full {
-                let v = check_labelling(&d, &full, catalog, opts.boundary_occluding).unwrap();
-                assert!(v.iter().all(|x| x.uncatalogued), "a found labelling must check");
-            }
-        }
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| check_label_bytes(data));
