@@ -151,18 +151,44 @@ pub fn measure_parallelogram_mm(
     })
 }
 
+/// One catalog block a parallelogram proposes, and whether it fits the parallelogram exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Proposal {
+    /// The catalog block, placed in world mm.
+    pub block: Block,
+    /// `true` when the block's sides equal the closed parallelogram's (and its height the
+    /// visible "down" edge, when there is one) within the length tolerance: the thesis's
+    /// direct reading of a block's type from its sizes (Chapter V, "this information is put
+    /// together to obtain the type of the blocks"), not merely a block at least that long.
+    pub closed_fit: bool,
+}
+
+/// Whether a block with horizontal extents `dims` along `m.axes` and height `h` has exactly the
+/// sides of `m`'s closed parallelogram (and of its visible vertical edge).
+fn fits_closed(m: &ParallelogramMm, face: Face, dims: [f64; 2], h: f64, tol_mm: f64) -> bool {
+    let Some([a, b]) = m.closed_side_mm else {
+        return false;
+    };
+    let near = |x: f64, y: f64| (x - y).abs() <= tol_mm;
+    let sides = match face {
+        Face::Top(_) => near(dims[0], a) && near(dims[1], b),
+        Face::Side(_) => near(dims[0], a) && near(h, b),
+    };
+    sides && m.height_mm.is_none_or(|d| near(h, d))
+}
+
 /// Every catalog block (type, yaw 0/90) that has `p`'s vertex as the corner `p.face` of its
 /// top face (or the top corner of a side face) at one of `levels_mm`, with edges at least as
 /// long as the visible ones and a height at least the visible "down" edge (rule (1) of
-/// Chapter V: an edge may be occluded, never longer than the block). Empty when a side is not
-/// along a world axis.
-pub fn catalog_candidates(
+/// Chapter V: an edge may be occluded, never longer than the block), each marked when it fits
+/// the closed parallelogram exactly. Empty when a side is not along a world axis.
+pub fn catalog_proposals(
     p: &Parallelogram,
     drawing: &LineDrawing,
     camera: &Camera,
     levels_mm: &[f64],
     tol: &MatchTolerances,
-) -> Vec<Block> {
+) -> Vec<Proposal> {
     let mut out = Vec::new();
     for &y_top in levels_mm {
         let Some(m) = measure_parallelogram_mm(p, drawing, camera, y_top, tol) else {
@@ -182,12 +208,30 @@ pub fn catalog_candidates(
                     let centre =
                         corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
                             - DVec3::Y * h / 2.0;
-                    out.push(Block::new(t.id, centre, yaw));
+                    let dims = [dim(axes[0]), dim(axes[1])];
+                    out.push(Proposal {
+                        block: Block::new(t.id, centre, yaw),
+                        closed_fit: fits_closed(&m, p.face, dims, h, tol.length_mm),
+                    });
                 }
             }
         }
     }
     out
+}
+
+/// The blocks of [`catalog_proposals`] without their fit marks.
+pub fn catalog_candidates(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    levels_mm: &[f64],
+    tol: &MatchTolerances,
+) -> Vec<Block> {
+    catalog_proposals(p, drawing, camera, levels_mm, tol)
+        .into_iter()
+        .map(|c| c.block)
+        .collect()
 }
 
 /// Axis-aligned world bounds (min, max) of a block in mm.

@@ -93,6 +93,25 @@ pub fn compare_drawings(drawn: &LineDrawing, observed: &LineDrawing, tol_px: f64
     }
 }
 
+/// The blocks (indices into the drawn hypothesis) owning a line of `drawn` that no observed
+/// line explains: what the hypothesis draws in excess, by block, sorted and without repeats.
+pub fn blocks_drawn_in_excess(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    tol_px: f64,
+) -> Vec<usize> {
+    let mut out: Vec<usize> = drawn
+        .lines
+        .iter()
+        .zip(&drawn.edges)
+        .filter(|(l, _)| !line_explained(drawn, **l, observed, tol_px))
+        .map(|(_, e)| e.block)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
 /// Draws `blocks` in `camera` with the exact hidden-line removal of `render::truth`.
 pub fn draw_hypothesis(blocks: &[Block], camera: &Camera) -> LineDrawing {
     visible_line_drawing(&Scene::new("hypothesis", blocks.to_vec()), camera)
