@@ -2,9 +2,10 @@
 //! the catalog blocks they can belong to (with yaw 0 or 90), classify the blocks into layers
 //! (the bottom layer at y = 0) and find which blocks touch.
 
-use super::parallelogram::{drop_below_mm, horizontal_axis_for, point_at_height_mm};
+use super::parallelogram::{drop_below_on, horizontal_axis_on, point_at_height_on};
 use super::parallelogram::{Face, Parallelogram};
 use super::Camera;
+use crate::camera::Projector;
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 use crate::scene::{Block, BlockType, CATALOG};
@@ -111,12 +112,25 @@ pub fn measure_parallelogram_mm(
     y_top_mm: f64,
     tol: &MatchTolerances,
 ) -> Option<ParallelogramMm> {
+    let proj = Projector::new(camera);
+    measure_on(p, drawing, camera, &proj, y_top_mm, tol)
+}
+
+/// [`measure_parallelogram_mm`] with the camera's projector made once per view.
+fn measure_on(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    proj: &Projector,
+    y_top_mm: f64,
+    tol: &MatchTolerances,
+) -> Option<ParallelogramMm> {
     let v_px = p.vertex.at_px;
-    let corner = point_at_height_mm(camera, v_px, y_top_mm)?;
+    let corner = point_at_height_on(proj, v_px, y_top_mm)?;
     let along_mm = |i: usize| {
-        point_at_height_mm(camera, drawing.points[i], y_top_mm).map_or(0.0, |q| q.distance(corner))
+        point_at_height_on(proj, drawing.points[i], y_top_mm).map_or(0.0, |q| q.distance(corner))
     };
-    let down_mm = |i: usize| drop_below_mm(camera, corner, drawing.points[i]);
+    let down_mm = |i: usize| drop_below_on(proj, corner, drawing.points[i]);
     let horizontal = match p.face {
         Face::Top(_) => 2,
         Face::Side(_) => 1,
@@ -125,7 +139,7 @@ pub fn measure_parallelogram_mm(
     let mut visible_side_mm = [0.0; 2];
     for k in 0..horizontal {
         let end = p.sides[k].first()?.point;
-        let (axis, ang) = horizontal_axis_for(camera, corner, drawing.points[end] - v_px);
+        let (axis, ang) = horizontal_axis_on(proj, corner, drawing.points[end] - v_px);
         if ang > tol.axis_deg {
             return None;
         }
@@ -190,8 +204,9 @@ pub fn catalog_proposals(
     tol: &MatchTolerances,
 ) -> Vec<Proposal> {
     let mut out = Vec::new();
+    let proj = Projector::new(camera);
     for &y_top in levels_mm {
-        let Some(m) = measure_parallelogram_mm(p, drawing, camera, y_top, tol) else {
+        let Some(m) = measure_on(p, drawing, camera, &proj, y_top, tol) else {
             continue;
         };
         let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);

@@ -178,7 +178,8 @@ pub struct Evidence {
     /// One entry per view, in input order: what it contributed and how the final answer's
     /// drawing compares with it (the reconstruction file's `evidence`, one type for both).
     pub views: Vec<ViewEvidence>,
-    /// Distinct candidate blocks after pooling the views.
+    /// Distinct candidate blocks after pooling the views (when the direct path answered: the
+    /// candidates read exactly from closed parallelograms, all it pools).
     pub pooled_candidates: usize,
     /// The blocks the search chose (also when declined).
     pub hypothesis: Vec<Block>,
@@ -257,11 +258,13 @@ fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<D
     None
 }
 
-/// Steps 1-3 on one view: its proposals and evidence counts.
+/// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly
+/// when `fit_only`) and evidence counts.
 fn propose(
     view: &ObservedView,
     levels: &[f64],
     opts: &RecognizeOptions,
+    fit_only: bool,
 ) -> (Vec<Proposal>, ViewEvidence) {
     let selected = select_vertices(&view.drawing);
     let search = ParallelogramSearch::new(&view.drawing, opts.tol_px);
@@ -280,13 +283,9 @@ fn propose(
             };
             ev.parallelograms += 1;
             ev.closed_parallelograms += usize::from(p.closed.is_some());
-            out.extend(catalog_proposals(
-                &p,
-                &view.drawing,
-                &view.camera,
-                levels,
-                &opts.matching,
-            ));
+            let proposals =
+                catalog_proposals(&p, &view.drawing, &view.camera, levels, &opts.matching);
+            out.extend(proposals.into_iter().filter(|c| c.closed_fit || !fit_only));
         }
     }
     ev.proposals = out.len();
@@ -313,15 +312,39 @@ fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
 /// other (far below any catalog size, far above the measurement error).
 pub const SAME_PLACE_TOL_MM: f64 = 0.5;
 
-/// Step 4's choice: the direct hypothesis when its drawing explains every view; else the same
-/// without the blocks it draws in excess; else the search, first continued from that, then
-/// from nothing.
-fn find_hypothesis(
-    pool: &[PooledCandidate],
+/// Steps 1-3 on every view and the pooling of step 4: the pooled candidates, with the views'
+/// evidence counts recorded in `evidence`.
+fn propose_and_pool(
     views: &[ObservedView],
+    opts: &RecognizeOptions,
+    fit_only: bool,
+    evidence: &mut Evidence,
+) -> Vec<PooledCandidate> {
+    let levels = level_heights_mm(opts.max_height_mm);
+    evidence.views.clear();
+    let mut per_view = Vec::new();
+    for v in views {
+        let (proposals, ev) = propose(v, &levels, opts, fit_only);
+        per_view.push(proposals);
+        evidence.views.push(ev);
+    }
+    let pool = pool_proposals(&per_view, SAME_PLACE_TOL_MM);
+    evidence.pooled_candidates = pool.len();
+    pool
+}
+
+/// Step 4's choice. The direct path first, on the candidates read exactly from closed
+/// parallelograms: its hypothesis when its drawing explains every view, else the same without
+/// the blocks it draws in excess. Failing that, every candidate is pooled and the search
+/// continues from there, then starts from nothing.
+fn find_hypothesis(
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
     limits: &SearchLimits,
+    evidence: &mut Evidence,
 ) -> Hypothesis {
-    let blocks = direct_hypothesis(pool, views, limits.tol_px);
+    let exact = propose_and_pool(views, opts, true, evidence);
+    let blocks = direct_hypothesis(&exact, views, limits.tol_px);
     let direct = Hypothesis::new(blocks, views, limits.tol_px);
     if direct.mismatch() == 0 {
         return direct;
@@ -330,11 +353,12 @@ fn find_hypothesis(
     if pruned.mismatch() == 0 {
         return pruned;
     }
-    let (_, continued) = greedy_and_split_from(pool, views, limits, &[], pruned);
+    let pool = propose_and_pool(views, opts, false, evidence);
+    let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
     if continued.mismatch() == 0 {
         return continued;
     }
-    choose_hypothesis(pool, views, limits)
+    choose_hypothesis(&pool, views, limits)
 }
 
 /// `h` without every block that draws a line no observed line explains, in some view (a
@@ -393,15 +417,6 @@ pub fn recognize(
     if let Some(d) = check_directions(views, opts) {
         return Ok(Recognition::declined(d, evidence));
     }
-    let levels = level_heights_mm(opts.max_height_mm);
-    let mut per_view = Vec::new();
-    for v in views {
-        let (blocks, ev) = propose(v, &levels, opts);
-        per_view.push(blocks);
-        evidence.views.push(ev);
-    }
-    let pool = pool_proposals(&per_view, SAME_PLACE_TOL_MM);
-    evidence.pooled_candidates = pool.len();
     let limits = SearchLimits {
         tol_px: opts.tol_px,
         shortlist: opts.shortlist,
@@ -409,7 +424,7 @@ pub fn recognize(
         max_blocks: opts.max_blocks,
         repair_rounds: opts.repair_rounds,
     };
-    let h = find_hypothesis(&pool, views, &limits);
+    let h = find_hypothesis(views, opts, &limits, &mut evidence);
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;
