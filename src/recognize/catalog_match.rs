@@ -2,13 +2,15 @@
 //! the catalog blocks they can belong to (with yaw 0 or 90), classify the blocks into layers
 //! (the bottom layer at y = 0) and find which blocks touch.
 
-use super::parallelogram::{drop_below_on, horizontal_axis_on, point_at_height_on};
+use super::parallelogram::{drop_below_ray, horizontal_axis_on, ray_at_height};
 use super::parallelogram::{Face, Parallelogram};
 use super::Camera;
 use crate::camera::Projector;
 use crate::drawing::LineDrawing;
+use crate::geom::DVec2;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 use crate::scene::{Block, BlockType, CATALOG};
+use std::cell::RefCell;
 
 /// Tolerances of the catalog match, mm and degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,24 +115,64 @@ pub fn measure_parallelogram_mm(
     tol: &MatchTolerances,
 ) -> Option<ParallelogramMm> {
     let proj = Projector::new(camera);
-    measure_on(p, drawing, camera, &proj, y_top_mm, tol)
+    let rays = RayCache::new(&proj, camera.is_orthographic());
+    measure_on(p, drawing, camera, &rays, y_top_mm, tol)
 }
 
-/// [`measure_parallelogram_mm`] with the camera's projector made once per view.
+/// The camera rays through a parallelogram's points, each made once for all the heights it is
+/// measured at, and (orthographic views only, where an axis looks the same everywhere) the
+/// world axis of each side.
+struct RayCache<'a> {
+    proj: &'a Projector,
+    rays: RefCell<Vec<(DVec2, (DVec3, DVec3))>>,
+    axes: RefCell<[Option<(DVec3, f64)>; 2]>,
+    orthographic: bool,
+}
+
+impl<'a> RayCache<'a> {
+    fn new(proj: &'a Projector, orthographic: bool) -> Self {
+        RayCache {
+            proj,
+            rays: RefCell::new(Vec::new()),
+            axes: RefCell::new([None; 2]),
+            orthographic,
+        }
+    }
+
+    fn ray(&self, p_px: DVec2) -> (DVec3, DVec3) {
+        let mut rays = self.rays.borrow_mut();
+        if let Some((_, r)) = rays.iter().find(|(q, _)| *q == p_px) {
+            return *r;
+        }
+        let r = self.proj.ray(p_px);
+        rays.push((p_px, r));
+        r
+    }
+
+    fn axis(&self, k: usize, corner: DVec3, picture_dir: DVec2) -> (DVec3, f64) {
+        if !self.orthographic {
+            return horizontal_axis_on(self.proj, corner, picture_dir);
+        }
+        *self.axes.borrow_mut()[k]
+            .get_or_insert_with(|| horizontal_axis_on(self.proj, corner, picture_dir))
+    }
+}
+
+/// [`measure_parallelogram_mm`] through the rays of `rays` (made once per parallelogram).
 fn measure_on(
     p: &Parallelogram,
     drawing: &LineDrawing,
     camera: &Camera,
-    proj: &Projector,
+    rays: &RayCache,
     y_top_mm: f64,
     tol: &MatchTolerances,
 ) -> Option<ParallelogramMm> {
     let v_px = p.vertex.at_px;
-    let corner = point_at_height_on(proj, v_px, y_top_mm)?;
+    let corner = ray_at_height(rays.ray(v_px), y_top_mm)?;
     let along_mm = |i: usize| {
-        point_at_height_on(proj, drawing.points[i], y_top_mm).map_or(0.0, |q| q.distance(corner))
+        ray_at_height(rays.ray(drawing.points[i]), y_top_mm).map_or(0.0, |q| q.distance(corner))
     };
-    let down_mm = |i: usize| drop_below_on(proj, corner, drawing.points[i]);
+    let down_mm = |i: usize| drop_below_ray(rays.ray(drawing.points[i]), corner);
     let horizontal = match p.face {
         Face::Top(_) => 2,
         Face::Side(_) => 1,
@@ -139,7 +181,7 @@ fn measure_on(
     let mut visible_side_mm = [0.0; 2];
     for k in 0..horizontal {
         let end = p.sides[k].first()?.point;
-        let (axis, ang) = horizontal_axis_on(proj, corner, drawing.points[end] - v_px);
+        let (axis, ang) = rays.axis(k, corner, drawing.points[end] - v_px);
         if ang > tol.axis_deg {
             return None;
         }
@@ -205,8 +247,9 @@ pub fn catalog_proposals(
 ) -> Vec<Proposal> {
     let mut out = Vec::new();
     let proj = Projector::new(camera);
+    let rays = RayCache::new(&proj, camera.is_orthographic());
     for &y_top in levels_mm {
-        let Some(m) = measure_on(p, drawing, camera, &proj, y_top, tol) else {
+        let Some(m) = measure_on(p, drawing, camera, &rays, y_top, tol) else {
             continue;
         };
         let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);

@@ -243,7 +243,11 @@ pub fn point_at_height_mm(camera: &Camera, p_px: DVec2, y_mm: f64) -> Option<DVe
 /// [`point_at_height_mm`] with the camera's projector made once (the measurements of
 /// Chapter IV convert many points of one view).
 pub(super) fn point_at_height_on(proj: &Projector, p_px: DVec2, y_mm: f64) -> Option<DVec3> {
-    let (o, d) = proj.ray(p_px);
+    ray_at_height(proj.ray(p_px), y_mm)
+}
+
+/// Where the ray `(origin, unit direction)` meets the horizontal plane at height `y_mm`.
+pub(super) fn ray_at_height((o, d): (DVec3, DVec3), y_mm: f64) -> Option<DVec3> {
     if d.y.abs() < 1e-12 {
         return None;
     }
@@ -259,7 +263,11 @@ pub fn drop_below_mm(camera: &Camera, top_mm: DVec3, bottom_px: DVec2) -> f64 {
 
 /// [`drop_below_mm`] with the camera's projector made once.
 pub(super) fn drop_below_on(proj: &Projector, top_mm: DVec3, bottom_px: DVec2) -> f64 {
-    let (o, d) = proj.ray(bottom_px);
+    drop_below_ray(proj.ray(bottom_px), top_mm)
+}
+
+/// [`drop_below_mm`] for the ray `(origin, unit direction)` through the lower end.
+pub(super) fn drop_below_ray((o, d): (DVec3, DVec3), top_mm: DVec3) -> f64 {
     let w0 = top_mm - o;
     let b = DVec3::Y.dot(d);
     let denom = 1.0 - b * b;
