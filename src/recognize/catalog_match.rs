@@ -9,7 +9,7 @@ use crate::camera::Projector;
 use crate::drawing::LineDrawing;
 use crate::geom::DVec2;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
-use crate::scene::{Block, BlockType, CATALOG};
+use crate::scene::{Block, BlockType, Orientation, CATALOG};
 use std::cell::RefCell;
 
 /// Tolerances of the catalog match, mm and degrees.
@@ -248,30 +248,39 @@ pub fn catalog_proposals(
     let mut out = Vec::new();
     let proj = Projector::new(camera);
     let rays = RayCache::new(&proj, camera.is_orthographic());
+    // Every (type, yaw) with its footprint and height, read from the catalog once.
+    let shapes: Vec<(&'static BlockType, f64, (f64, f64), f64)> = CATALOG
+        .iter()
+        .flat_map(|t| {
+            let h = t.size_mm().y;
+            distinct_yaws_deg(t)
+                .into_iter()
+                .map(move |yaw| (t, yaw, footprint_mm(t, yaw), h))
+        })
+        .collect();
     for &y_top in levels_mm {
         let Some(m) = measure_on(p, drawing, camera, &rays, y_top, tol) else {
             continue;
         };
         let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);
         let min_height = m.height_mm.unwrap_or(0.0);
-        for t in CATALOG {
-            for yaw in distinct_yaws_deg(t) {
-                let (fx, fz) = footprint_mm(t, yaw);
-                let dim = |a: DVec3| if a.x.abs() > 0.5 { fx } else { fz };
-                let h = t.size_mm().y;
-                let fits = (0..2).all(|k| dim(axes[k]) + tol.length_mm >= min_len[k])
-                    && h + tol.length_mm >= min_height
-                    && h <= y_top + 1e-6;
-                if fits {
-                    let centre =
-                        corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
-                            - DVec3::Y * h / 2.0;
-                    let dims = [dim(axes[0]), dim(axes[1])];
-                    out.push(Proposal {
-                        block: Block::new(t.id, centre, yaw),
-                        closed_fit: fits_closed(&m, p.face, dims, h, tol.length_mm),
-                    });
-                }
+        for &(t, yaw, (fx, fz), h) in &shapes {
+            let dim = |a: DVec3| if a.x.abs() > 0.5 { fx } else { fz };
+            let fits = (0..2).all(|k| dim(axes[k]) + tol.length_mm >= min_len[k])
+                && h + tol.length_mm >= min_height
+                && h <= y_top + 1e-6;
+            if fits {
+                let centre = corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
+                    - DVec3::Y * h / 2.0;
+                let dims = [dim(axes[0]), dim(axes[1])];
+                out.push(Proposal {
+                    block: Block {
+                        block_type: t,
+                        center_mm: centre,
+                        orientation: Orientation::YawDeg(yaw),
+                    },
+                    closed_fit: fits_closed(&m, p.face, dims, h, tol.length_mm),
+                });
             }
         }
     }
