@@ -232,3 +232,127 @@ pub(super) fn alternative_given_drawings(
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recognize::{CameraOptions, CornerView};
+
+    fn views_of(blocks: &[Block]) -> Vec<ObservedView> {
+        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        CornerView::ALL
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &CameraOptions::default());
+                let drawing = draw_hypothesis(blocks, &camera);
+                ObservedView { drawing, camera }
+            })
+            .collect()
+    }
+
+    /// The 3 x 3 layer of b15 with a row of three on top (`bench render`'s 12-block stack).
+    fn stack() -> Vec<Block> {
+        (0..12)
+            .map(|k: usize| {
+                let (layer, i) = (k / 9, k % 9);
+                let centre = DVec3::new(
+                    (i % 3) as f64 * 15.0,
+                    layer as f64 * 15.0 + 7.5,
+                    (i / 3) as f64 * 15.0,
+                );
+                Block::new("b15", centre, 0.0)
+            })
+            .collect()
+    }
+
+    /// Every split and merge alternative of `blocks`: refuted by some view, and whether the
+    /// exact redraw explains every view.
+    fn alternatives(blocks: &[Block], views: &[ObservedView]) -> Vec<(String, bool, bool)> {
+        let drawn: Vec<LineDrawing> = views
+            .iter()
+            .map(|v| draw_hypothesis(blocks, &v.camera))
+            .collect();
+        let explains = |alt: &[Block]| {
+            views.iter().all(|v| {
+                compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, 2.0).is_explained()
+            })
+        };
+        let mut out = Vec::new();
+        for (i, b) in blocks.iter().enumerate() {
+            for halves in catalog_splits(b) {
+                let refuted = views
+                    .iter()
+                    .zip(&drawn)
+                    .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, 2.0));
+                let mut alt = blocks.to_vec();
+                alt.splice(i..=i, halves);
+                out.push((format!("split {i}"), refuted, explains(&alt)));
+            }
+        }
+        for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
+                    continue;
+                };
+                let refuted = views
+                    .iter()
+                    .zip(&drawn)
+                    .any(|(v, d)| merge_refuted([i, j], d, &v.drawing, 2.0));
+                let mut alt = blocks.to_vec();
+                alt.remove(j);
+                alt[i] = m;
+                out.push((format!("merge {i} {j}"), refuted, explains(&alt)));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_refuted_alternative_never_explains_the_views_and_most_are_refuted() {
+        let row = vec![
+            Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(22.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+        ];
+        for blocks in [row, stack()] {
+            let views = views_of(&blocks);
+            let alts = alternatives(&blocks, &views);
+            assert!(!alts.is_empty());
+            for (what, refuted, explains) in &alts {
+                assert!(
+                    !(*refuted && *explains),
+                    "{what}: refuted, yet the redraw explains"
+                );
+            }
+            // Only alternatives whose crack hides or meets other blocks' lines go to the redraw.
+            let refuted = alts.iter().filter(|a| a.1).count();
+            assert!(4 * refuted >= 3 * alts.len(), "{alts:?}");
+        }
+    }
+
+    #[test]
+    fn the_stacks_middle_bottom_block_is_not_refuted_and_is_found_ambiguous() {
+        let blocks = stack();
+        let views = views_of(&blocks);
+        let alts = alternatives(&blocks, &views);
+        let middle = alts.iter().find(|a| a.0 == "split 4").unwrap();
+        assert_eq!(
+            (middle.1, middle.2),
+            (false, true),
+            "its sides touch its neighbours: two stacked b7_5 draw the same views"
+        );
+        let detail = equally_good_alternative(&blocks, &views, 2.0).unwrap();
+        assert!(
+            detail.starts_with("block 4 (b15) could as well be two b7_5"),
+            "{detail}"
+        );
+        // A lone cube shows its middle: its split is refuted and nothing is ambiguous.
+        let cube = vec![Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0)];
+        let views = views_of(&cube);
+        assert!(
+            alternatives(&cube, &views)[0].1,
+            "a lone cube shows its middle"
+        );
+        assert_eq!(equally_good_alternative(&cube, &views, 2.0), None);
+    }
+}
