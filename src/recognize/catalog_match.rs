@@ -500,6 +500,38 @@ mod tests {
     }
 
     #[test]
+    fn only_the_block_with_the_closed_parallelograms_sides_fits_it_exactly() {
+        let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
+        let cam = Camera::frame(
+            &truth.world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let d = visible_line_drawing(&Scene::new("one", vec![truth]), &cam);
+        let search = ParallelogramSearch::new(&d, 0.5);
+        let fork = select_vertices(&d)
+            .into_iter()
+            .find(|v| v.code.0 == 22)
+            .unwrap();
+        let p = search.search(&fork, F::Top(TopCorner::Near)).unwrap();
+        assert!(p.closed.is_some());
+        let all = catalog_proposals(&p, &d, &cam, &level_heights_mm(45.0), &Default::default());
+        let fits: Vec<&Proposal> = all.iter().filter(|c| c.closed_fit).collect();
+        assert!(!fits.is_empty(), "{all:?}");
+        assert!(fits.iter().all(|c| c.block.block_type.id == "b30"));
+        // Left open (a side occluded), the same sides are only lower bounds: no exact fit.
+        let mut open = p.clone();
+        open.closed = None;
+        let levels = level_heights_mm(45.0);
+        let open = catalog_proposals(&open, &d, &cam, &levels, &Default::default());
+        assert_eq!(open.len(), all.len());
+        assert!(open.iter().all(|c| !c.closed_fit));
+        assert!(fits
+            .iter()
+            .any(|c| c.block.center_mm.distance(truth.center_mm) < 1e-6));
+    }
+
+    #[test]
     fn nearly_touching_faces_are_made_flush_and_the_floor_is_y_zero() {
         let blocks = vec![
             Block::new("b15", DVec3::new(7.54, 7.53, 7.5), 0.0),
