@@ -82,6 +82,44 @@ pub fn bounds2(points: impl IntoIterator<Item = DVec2>) -> Option<(DVec2, DVec2)
     })
 }
 
+/// The convex hull of picture points, counter-clockwise, without collinear points (Andrew's
+/// monotone chain, A. M. Andrew, "Another efficient algorithm for convex hulls in two
+/// dimensions", 1979). Fewer than three distinct points give what there is.
+pub fn convex_hull(points: &[DVec2]) -> Vec<DVec2> {
+    let mut pts = points.to_vec();
+    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
+    }
+    let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<DVec2> = Vec::with_capacity(2 * pts.len());
+    for pass in [pts.clone(), pts.into_iter().rev().collect()] {
+        let start = hull.len();
+        for p in pass {
+            while hull.len() >= start + 2
+                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// Whether picture point `p` lies inside the counter-clockwise convex polygon `hull` grown by
+/// `tol_px` (a polygon of fewer than three points contains nothing).
+pub fn inside_convex(hull: &[DVec2], p: DVec2, tol_px: f64) -> bool {
+    let n = hull.len();
+    n >= 3
+        && (0..n).all(|k| {
+            let (a, b) = (hull[k], hull[(k + 1) % n]);
+            (b - a).perp_dot(p - a) >= -tol_px * (b - a).length()
+        })
+}
+
 /// Disjoint sets over `0..n` with path halving; a union keeps the smaller index as the root,
 /// so the sets' representatives do not depend on the order of unions (deterministic output).
 #[derive(Debug, Clone)]
@@ -114,6 +152,23 @@ impl UnionFind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hull_of_a_square_with_an_inner_point_is_the_square_and_contains_its_centre() {
+        let pts = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(0.0, 2.0),
+            DVec2::new(1.0, 0.0),
+        ];
+        let hull = convex_hull(&pts);
+        assert_eq!(hull.len(), 4, "{hull:?}");
+        assert!(inside_convex(&hull, DVec2::new(1.0, 1.0), 0.0));
+        assert!(inside_convex(&hull, DVec2::new(2.05, 1.0), 0.1));
+        assert!(!inside_convex(&hull, DVec2::new(2.5, 1.0), 0.1));
+    }
 
     #[test]
     fn isometric_angle_is_atan_of_inverse_sqrt2() {

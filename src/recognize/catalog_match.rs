@@ -2,12 +2,15 @@
 //! the catalog blocks they can belong to (with yaw 0 or 90), classify the blocks into layers
 //! (the bottom layer at y = 0) and find which blocks touch.
 
-use super::parallelogram::{drop_below_mm, horizontal_axis_for, point_at_height_mm};
+use super::parallelogram::{drop_below_ray, horizontal_axis_on, ray_at_height};
 use super::parallelogram::{Face, Parallelogram};
 use super::Camera;
+use crate::camera::Projector;
 use crate::drawing::LineDrawing;
+use crate::geom::DVec2;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
-use crate::scene::{Block, BlockType, CATALOG};
+use crate::scene::{Block, BlockType, Orientation, CATALOG};
+use std::cell::RefCell;
 
 /// Tolerances of the catalog match, mm and degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,12 +114,65 @@ pub fn measure_parallelogram_mm(
     y_top_mm: f64,
     tol: &MatchTolerances,
 ) -> Option<ParallelogramMm> {
+    let proj = Projector::new(camera);
+    let rays = RayCache::new(&proj, camera.is_orthographic());
+    measure_on(p, drawing, camera, &rays, y_top_mm, tol)
+}
+
+/// The camera rays through a parallelogram's points, each made once for all the heights it is
+/// measured at, and (orthographic views only, where an axis looks the same everywhere) the
+/// world axis of each side.
+struct RayCache<'a> {
+    proj: &'a Projector,
+    rays: RefCell<Vec<(DVec2, (DVec3, DVec3))>>,
+    axes: RefCell<[Option<(DVec3, f64)>; 2]>,
+    orthographic: bool,
+}
+
+impl<'a> RayCache<'a> {
+    fn new(proj: &'a Projector, orthographic: bool) -> Self {
+        RayCache {
+            proj,
+            rays: RefCell::new(Vec::new()),
+            axes: RefCell::new([None; 2]),
+            orthographic,
+        }
+    }
+
+    fn ray(&self, p_px: DVec2) -> (DVec3, DVec3) {
+        let mut rays = self.rays.borrow_mut();
+        if let Some((_, r)) = rays.iter().find(|(q, _)| *q == p_px) {
+            return *r;
+        }
+        let r = self.proj.ray(p_px);
+        rays.push((p_px, r));
+        r
+    }
+
+    fn axis(&self, k: usize, corner: DVec3, picture_dir: DVec2) -> (DVec3, f64) {
+        if !self.orthographic {
+            return horizontal_axis_on(self.proj, corner, picture_dir);
+        }
+        *self.axes.borrow_mut()[k]
+            .get_or_insert_with(|| horizontal_axis_on(self.proj, corner, picture_dir))
+    }
+}
+
+/// [`measure_parallelogram_mm`] through the rays of `rays` (made once per parallelogram).
+fn measure_on(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    rays: &RayCache,
+    y_top_mm: f64,
+    tol: &MatchTolerances,
+) -> Option<ParallelogramMm> {
     let v_px = p.vertex.at_px;
-    let corner = point_at_height_mm(camera, v_px, y_top_mm)?;
+    let corner = ray_at_height(rays.ray(v_px), y_top_mm)?;
     let along_mm = |i: usize| {
-        point_at_height_mm(camera, drawing.points[i], y_top_mm).map_or(0.0, |q| q.distance(corner))
+        ray_at_height(rays.ray(drawing.points[i]), y_top_mm).map_or(0.0, |q| q.distance(corner))
     };
-    let down_mm = |i: usize| drop_below_mm(camera, corner, drawing.points[i]);
+    let down_mm = |i: usize| drop_below_ray(rays.ray(drawing.points[i]), corner);
     let horizontal = match p.face {
         Face::Top(_) => 2,
         Face::Side(_) => 1,
@@ -125,7 +181,7 @@ pub fn measure_parallelogram_mm(
     let mut visible_side_mm = [0.0; 2];
     for k in 0..horizontal {
         let end = p.sides[k].first()?.point;
-        let (axis, ang) = horizontal_axis_for(camera, corner, drawing.points[end] - v_px);
+        let (axis, ang) = rays.axis(k, corner, drawing.points[end] - v_px);
         if ang > tol.axis_deg {
             return None;
         }
@@ -151,11 +207,87 @@ pub fn measure_parallelogram_mm(
     })
 }
 
+/// One catalog block a parallelogram proposes, and whether it fits the parallelogram exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Proposal {
+    /// The catalog block, placed in world mm.
+    pub block: Block,
+    /// `true` when the block's sides equal the closed parallelogram's (and its height the
+    /// visible "down" edge, when there is one) within the length tolerance: the thesis's
+    /// direct reading of a block's type from its sizes (Chapter V, "this information is put
+    /// together to obtain the type of the blocks"), not merely a block at least that long.
+    pub closed_fit: bool,
+}
+
+/// Whether a block with horizontal extents `dims` along `m.axes` and height `h` has exactly the
+/// sides of `m`'s closed parallelogram (and of its visible vertical edge).
+fn fits_closed(m: &ParallelogramMm, face: Face, dims: [f64; 2], h: f64, tol_mm: f64) -> bool {
+    let Some([a, b]) = m.closed_side_mm else {
+        return false;
+    };
+    let near = |x: f64, y: f64| (x - y).abs() <= tol_mm;
+    let sides = match face {
+        Face::Top(_) => near(dims[0], a) && near(dims[1], b),
+        Face::Side(_) => near(dims[0], a) && near(h, b),
+    };
+    sides && m.height_mm.is_none_or(|d| near(h, d))
+}
+
 /// Every catalog block (type, yaw 0/90) that has `p`'s vertex as the corner `p.face` of its
 /// top face (or the top corner of a side face) at one of `levels_mm`, with edges at least as
 /// long as the visible ones and a height at least the visible "down" edge (rule (1) of
-/// Chapter V: an edge may be occluded, never longer than the block). Empty when a side is not
-/// along a world axis.
+/// Chapter V: an edge may be occluded, never longer than the block), each marked when it fits
+/// the closed parallelogram exactly. Empty when a side is not along a world axis.
+pub fn catalog_proposals(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    levels_mm: &[f64],
+    tol: &MatchTolerances,
+) -> Vec<Proposal> {
+    let mut out = Vec::new();
+    let proj = Projector::new(camera);
+    let rays = RayCache::new(&proj, camera.is_orthographic());
+    // Every (type, yaw) with its footprint and height, read from the catalog once.
+    let shapes: Vec<(&'static BlockType, f64, (f64, f64), f64)> = CATALOG
+        .iter()
+        .flat_map(|t| {
+            let h = t.size_mm().y;
+            distinct_yaws_deg(t)
+                .into_iter()
+                .map(move |yaw| (t, yaw, footprint_mm(t, yaw), h))
+        })
+        .collect();
+    for &y_top in levels_mm {
+        let Some(m) = measure_on(p, drawing, camera, &rays, y_top, tol) else {
+            continue;
+        };
+        let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);
+        let min_height = m.height_mm.unwrap_or(0.0);
+        for &(t, yaw, (fx, fz), h) in &shapes {
+            let dim = |a: DVec3| if a.x.abs() > 0.5 { fx } else { fz };
+            let fits = (0..2).all(|k| dim(axes[k]) + tol.length_mm >= min_len[k])
+                && h + tol.length_mm >= min_height
+                && h <= y_top + 1e-6;
+            if fits {
+                let centre = corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
+                    - DVec3::Y * h / 2.0;
+                let dims = [dim(axes[0]), dim(axes[1])];
+                out.push(Proposal {
+                    block: Block {
+                        block_type: t,
+                        center_mm: centre,
+                        orientation: Orientation::YawDeg(yaw),
+                    },
+                    closed_fit: fits_closed(&m, p.face, dims, h, tol.length_mm),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The blocks of [`catalog_proposals`] without their fit marks.
 pub fn catalog_candidates(
     p: &Parallelogram,
     drawing: &LineDrawing,
@@ -163,31 +295,10 @@ pub fn catalog_candidates(
     levels_mm: &[f64],
     tol: &MatchTolerances,
 ) -> Vec<Block> {
-    let mut out = Vec::new();
-    for &y_top in levels_mm {
-        let Some(m) = measure_parallelogram_mm(p, drawing, camera, y_top, tol) else {
-            continue;
-        };
-        let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);
-        let min_height = m.height_mm.unwrap_or(0.0);
-        for t in CATALOG {
-            for yaw in distinct_yaws_deg(t) {
-                let (fx, fz) = footprint_mm(t, yaw);
-                let dim = |a: DVec3| if a.x.abs() > 0.5 { fx } else { fz };
-                let h = t.size_mm().y;
-                let fits = (0..2).all(|k| dim(axes[k]) + tol.length_mm >= min_len[k])
-                    && h + tol.length_mm >= min_height
-                    && h <= y_top + 1e-6;
-                if fits {
-                    let centre =
-                        corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
-                            - DVec3::Y * h / 2.0;
-                    out.push(Block::new(t.id, centre, yaw));
-                }
-            }
-        }
-    }
-    out
+    catalog_proposals(p, drawing, camera, levels_mm, tol)
+        .into_iter()
+        .map(|c| c.block)
+        .collect()
 }
 
 /// Axis-aligned world bounds (min, max) of a block in mm.
@@ -386,6 +497,38 @@ mod tests {
         assert!(all.iter().all(|b| b.block_type.id != "b15"));
         // The b7_5 cannot be it either: the visible vertical edge is 15 mm.
         assert!(all.iter().all(|b| b.block_type.id != "b7_5"));
+    }
+
+    #[test]
+    fn only_the_block_with_the_closed_parallelograms_sides_fits_it_exactly() {
+        let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
+        let cam = Camera::frame(
+            &truth.world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let d = visible_line_drawing(&Scene::new("one", vec![truth]), &cam);
+        let search = ParallelogramSearch::new(&d, 0.5);
+        let fork = select_vertices(&d)
+            .into_iter()
+            .find(|v| v.code.0 == 22)
+            .unwrap();
+        let p = search.search(&fork, F::Top(TopCorner::Near)).unwrap();
+        assert!(p.closed.is_some());
+        let all = catalog_proposals(&p, &d, &cam, &level_heights_mm(45.0), &Default::default());
+        let fits: Vec<&Proposal> = all.iter().filter(|c| c.closed_fit).collect();
+        assert!(!fits.is_empty(), "{all:?}");
+        assert!(fits.iter().all(|c| c.block.block_type.id == "b30"));
+        // Left open (a side occluded), the same sides are only lower bounds: no exact fit.
+        let mut open = p.clone();
+        open.closed = None;
+        let levels = level_heights_mm(45.0);
+        let open = catalog_proposals(&open, &d, &cam, &levels, &Default::default());
+        assert_eq!(open.len(), all.len());
+        assert!(open.iter().all(|c| !c.closed_fit));
+        assert!(fits
+            .iter()
+            .any(|c| c.block.center_mm.distance(truth.center_mm) < 1e-6));
     }
 
     #[test]

@@ -13,12 +13,14 @@
 //! one at a time, each time the candidate whose redrawn views (step 6, [`super::verify`])
 //! explain the most of the observed drawings, until nothing improves.
 
-use super::catalog_match::{blocks_overlap, distinct_yaws_deg, make_touching_flush};
+use super::catalog_match::{blocks_overlap, distinct_yaws_deg, make_touching_flush, Proposal};
 use super::verify::{compare_drawings, draw_hypothesis, ViewCheck};
 use super::ObservedView;
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3};
 use crate::scene::{Block, Orientation, CATALOG};
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 
 /// A block proposed by one or more views.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +29,9 @@ pub struct PooledCandidate {
     pub block: Block,
     /// Indices of the views whose parallelograms proposed it.
     pub views: Vec<usize>,
+    /// Indices of the views where it fits a closed parallelogram exactly
+    /// ([`Proposal::closed_fit`]).
+    pub fit_views: Vec<usize>,
     /// How many parallelograms proposed it; `block.center_mm` is their mean.
     pub proposals: usize,
 }
@@ -43,29 +48,110 @@ pub fn yaw_deg(b: &Block) -> f64 {
 /// mean) are one candidate, placed at the mean of its proposals. Order: first proposal first
 /// (deterministic).
 pub fn pool_candidates(per_view: &[Vec<Block>], tol_mm: f64) -> Vec<PooledCandidate> {
+    let per_view: Vec<Vec<Proposal>> = per_view
+        .iter()
+        .map(|blocks| {
+            blocks
+                .iter()
+                .map(|&block| Proposal {
+                    block,
+                    closed_fit: false,
+                })
+                .collect()
+        })
+        .collect();
+    pool_proposals(&per_view, tol_mm)
+}
+
+/// The grid cell of a centre, cells `2 tol_mm` wide, and per axis the neighbouring cell on the
+/// side nearer the centre: a candidate within `tol_mm` of the centre lies in one of the 8
+/// cells so named.
+fn cells_near(c: DVec3, tol_mm: f64) -> ([i64; 3], [i64; 3]) {
+    let u = c / (2.0 * tol_mm.max(1e-9));
+    let cell = u.floor();
+    let side = (u - cell).to_array().map(|f| if f < 0.5 { -1 } else { 1 });
+    (cell.to_array().map(|x| x as i64), side)
+}
+
+/// A multiplicative hasher for the pooling grid's integer keys (SipHash's protection against
+/// chosen keys is not needed for cells of measured centres).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl std::hash::Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// [`pool_candidates`] keeping the fit marks: the views where a candidate fits a closed
+/// parallelogram exactly. Candidates are found through a grid of `2 tol_mm` cells keyed by
+/// their first proposal, so pooling stays linear in the proposals.
+pub fn pool_proposals(per_view: &[Vec<Proposal>], tol_mm: f64) -> Vec<PooledCandidate> {
+    type Grid = HashMap<(u64, [i64; 3]), Vec<usize>, BuildHasherDefault<CellHasher>>;
     let mut pool: Vec<PooledCandidate> = Vec::new();
-    for (v, blocks) in per_view.iter().enumerate() {
-        for b in blocks {
-            let same = pool.iter_mut().find(|c| {
-                c.block.block_type.id == b.block_type.id
-                    && yaw_deg(&c.block) == yaw_deg(b)
-                    && c.block.center_mm.distance(b.center_mm) <= tol_mm
-            });
+    let mut grid = Grid::default();
+    for (v, proposals) in per_view.iter().enumerate() {
+        for p in proposals {
+            let b = &p.block;
+            // Type (its id's address: one static per catalog entry) and yaw.
+            let kind = (b.block_type.id.as_ptr() as u64) ^ yaw_deg(b).to_bits().rotate_left(17);
+            let (cell, side) = cells_near(b.center_mm, tol_mm);
+            let same = (0..8)
+                .map(|k| [0, 1, 2].map(|a| cell[a] + if k >> a & 1 == 1 { side[a] } else { 0 }))
+                .filter_map(|c| grid.get(&(kind, c)))
+                .flatten()
+                .copied()
+                .filter(|&k| {
+                    let c = &pool[k].block;
+                    c.block_type.id == b.block_type.id
+                        && yaw_deg(c) == yaw_deg(b)
+                        && c.center_mm.distance(b.center_mm) <= tol_mm
+                })
+                .min();
             match same {
-                Some(c) => {
+                Some(k) => {
                     // The running mean of every proposal's centre.
+                    let c = &mut pool[k];
                     c.proposals += 1;
                     let n = c.proposals as f64;
                     c.block.center_mm += (b.center_mm - c.block.center_mm) / n;
                     if !c.views.contains(&v) {
                         c.views.push(v);
                     }
+                    if p.closed_fit && !c.fit_views.contains(&v) {
+                        c.fit_views.push(v);
+                    }
                 }
-                None => pool.push(PooledCandidate {
-                    block: *b,
-                    views: vec![v],
-                    proposals: 1,
-                }),
+                None => {
+                    grid.entry((kind, cell)).or_default().push(pool.len());
+                    pool.push(PooledCandidate {
+                        block: *b,
+                        views: vec![v],
+                        fit_views: if p.closed_fit { vec![v] } else { Vec::new() },
+                        proposals: 1,
+                    });
+                }
             }
         }
     }
@@ -76,15 +162,21 @@ pub fn pool_candidates(per_view: &[Vec<Block>], tol_mm: f64) -> Vec<PooledCandid
 /// far above the measurement error of a vertex).
 pub const FLUSH_TOL_MM: f64 = 0.5;
 
-/// The state of the search: chosen blocks, their drawings, per-view checks.
-struct Hypothesis {
-    blocks: Vec<Block>,
-    checks: Vec<ViewCheck>,
+/// The state of the search: chosen blocks (made flush), their exact drawings and per-view
+/// checks (step 6), and the observed points no drawn point explains yet.
+pub(super) struct Hypothesis {
+    /// The blocks, touching faces made flush.
+    pub blocks: Vec<Block>,
+    /// Their exact drawing in every view.
+    pub drawn: Vec<LineDrawing>,
+    /// Each view's comparison with the observed drawing.
+    pub checks: Vec<ViewCheck>,
     unexplained: Vec<Vec<DVec2>>,
 }
 
 impl Hypothesis {
-    fn new(blocks: Vec<Block>, views: &[ObservedView], tol_px: f64) -> Hypothesis {
+    /// Draws `blocks` (made flush) in every view and compares with the observed drawings.
+    pub fn new(blocks: Vec<Block>, views: &[ObservedView], tol_px: f64) -> Hypothesis {
         let blocks = make_touching_flush(&blocks, FLUSH_TOL_MM);
         let drawn: Vec<LineDrawing> = views
             .iter()
@@ -109,12 +201,14 @@ impl Hypothesis {
             .collect();
         Hypothesis {
             blocks,
+            drawn,
             checks,
             unexplained,
         }
     }
 
-    fn mismatch(&self) -> usize {
+    /// Total disagreement over the views (0: every view explained).
+    pub fn mismatch(&self) -> usize {
         self.checks.iter().map(ViewCheck::mismatch).sum()
     }
 }
@@ -227,7 +321,18 @@ fn greedy_and_split(
     banned: &[usize],
 ) -> (Vec<usize>, Hypothesis) {
     let empty = Hypothesis::new(Vec::new(), views, limits.tol_px);
-    let (mut chosen, mut h) = greedy(pool, views, limits, banned, empty);
+    greedy_and_split_from(pool, views, limits, banned, empty)
+}
+
+/// [`greedy_and_split`] from a given hypothesis (its blocks stay; more are added or split).
+pub(super) fn greedy_and_split_from(
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    limits: &SearchLimits,
+    banned: &[usize],
+    start: Hypothesis,
+) -> (Vec<usize>, Hypothesis) {
+    let (mut chosen, mut h) = greedy(pool, views, limits, banned, start);
     while h.mismatch() > 0 {
         let split = (0..h.blocks.len()).find_map(|i| {
             catalog_splits(&h.blocks[i]).into_iter().find_map(|halves| {
@@ -256,6 +361,16 @@ pub fn choose_blocks(
     views: &[ObservedView],
     limits: &SearchLimits,
 ) -> (Vec<Block>, Vec<ViewCheck>) {
+    let best = choose_hypothesis(pool, views, limits);
+    (best.blocks, best.checks)
+}
+
+/// [`choose_blocks`] returning the whole hypothesis, drawings included.
+pub(super) fn choose_hypothesis(
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    limits: &SearchLimits,
+) -> Hypothesis {
     let mut banned: Vec<usize> = Vec::new();
     let (mut chosen, mut best) = greedy_and_split(pool, views, limits, &banned);
     for _ in 0..limits.repair_rounds {
@@ -285,7 +400,7 @@ pub fn choose_blocks(
             None => break,
         }
     }
-    (best.blocks, best.checks)
+    best
 }
 
 /// The ways a block is two catalog blocks flush against each other (one b30 is two b15 end to
@@ -342,50 +457,6 @@ pub fn catalog_merge(a: &Block, b: &Block) -> Option<Block> {
                 .then_some(m)
         })
     })
-}
-
-/// Another hypothesis that explains every view equally well, found by splitting one chosen
-/// block or merging two (a crack hidden in every view): then the views cannot tell which is
-/// the sample, and answering would risk a confident wrong answer. Returns a description.
-pub fn equally_good_alternative(
-    blocks: &[Block],
-    views: &[ObservedView],
-    tol_px: f64,
-) -> Option<String> {
-    let explains = |alt: &[Block]| {
-        views.iter().all(|v| {
-            compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, tol_px).is_explained()
-        })
-    };
-    for (i, b) in blocks.iter().enumerate() {
-        for halves in catalog_splits(b) {
-            let mut alt = blocks.to_vec();
-            alt.splice(i..=i, halves);
-            if explains(&alt) {
-                return Some(format!(
-                    "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
-                    b.block_type.id, halves[0].block_type.id
-                ));
-            }
-        }
-    }
-    for i in 0..blocks.len() {
-        for j in i + 1..blocks.len() {
-            let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
-                continue;
-            };
-            let mut alt: Vec<Block> = blocks.to_vec();
-            alt.remove(j);
-            alt[i] = m;
-            if explains(&alt) {
-                return Some(format!(
-                    "blocks {i} and {j} could as well be one {} (their crack is hidden in every view)",
-                    m.block_type.id
-                ));
-            }
-        }
-    }
-    None
 }
 
 #[cfg(test)]

@@ -9,17 +9,22 @@
 //! 3. [`catalog_candidates`]: the catalog blocks (yaw 0 or 90) those measurements fit, at every
 //!    layer height (sums of catalog heights, bottom layer at y = 0); [`classify_layers`] and
 //!    [`touching_pairs`] for the answer.
-//! 4. [`pool_candidates`] and [`choose_blocks`]: the views compared (Chapter V's three rules),
-//!    a block hidden in one view recovered from another; any subset of the four views.
+//! 4. [`pool_candidates`]: the views compared (Chapter V's three rules), a block hidden in one
+//!    view recovered from another; any subset of the four views. Then the direct path of
+//!    Figure 5.3 ([`direct_hypothesis`]: well-supported candidates, lowest level first), and
+//!    only when its drawing does not explain every view the search [`choose_blocks`].
 //! 5. CSG: in the `csg` stage.
 //! 6. [`check_hypothesis`]: the answer's own exact line drawing (`render::truth`) held against
-//!    every observed view; `ok` only when every view is explained, otherwise `unsupported` with
-//!    the reason, as also for what Chapter VII says the method cannot do
+//!    every observed view; `ok` only when every view is explained and no split or merged
+//!    alternative explains them equally well ([`equally_good_alternative`]), otherwise
+//!    `unsupported` with the reason, as also for what Chapter VII says the method cannot do
 //!    ([`lines_off_the_axes`], [`overhanging_blocks`], [`floating_blocks`]).
 
+mod ambiguity;
 mod catalog_match;
 mod compare;
 mod constraints;
+mod direct;
 mod parallelogram;
 mod select;
 mod verify;
@@ -30,27 +35,32 @@ pub(crate) use crate::camera::Camera;
 #[cfg(test)]
 pub(crate) use crate::camera::{CameraOptions, CornerView, Projection};
 
+pub use ambiguity::equally_good_alternative;
 pub use catalog_match::{
-    blocks_overlap, bounds_mm, catalog_candidates, classify_layers, distinct_yaws_deg,
-    level_heights_mm, make_touching_flush, measure_parallelogram_mm, touching_pairs, Layer,
-    MatchTolerances, ParallelogramMm,
+    blocks_overlap, bounds_mm, catalog_candidates, catalog_proposals, classify_layers,
+    distinct_yaws_deg, level_heights_mm, make_touching_flush, measure_parallelogram_mm,
+    touching_pairs, Layer, MatchTolerances, ParallelogramMm, Proposal,
 };
 pub use compare::{
-    catalog_merge, catalog_splits, choose_blocks, equally_good_alternative, pool_candidates,
-    yaw_deg, PooledCandidate, SearchLimits, FLUSH_TOL_MM,
+    catalog_merge, catalog_splits, choose_blocks, pool_candidates, pool_proposals, yaw_deg,
+    PooledCandidate, SearchLimits, FLUSH_TOL_MM,
 };
 pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
+pub use direct::{direct_hypothesis, well_supported};
 pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
 pub use verify::{
-    check_hypothesis, compare_drawings, distance_to_segment_px, draw_hypothesis, ViewCheck,
+    blocks_drawn_in_excess, check_hypothesis, compare_drawings, distance_to_segment_px,
+    draw_hypothesis, ViewCheck,
 };
 
 use crate::drawing::LineDrawing;
 use crate::scene::{Block, ReconStatus, ViewEvidence};
+use ambiguity::alternative_given_drawings;
+use compare::{choose_hypothesis, greedy_and_split_from, Hypothesis};
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -168,7 +178,8 @@ pub struct Evidence {
     /// One entry per view, in input order: what it contributed and how the final answer's
     /// drawing compares with it (the reconstruction file's `evidence`, one type for both).
     pub views: Vec<ViewEvidence>,
-    /// Distinct candidate blocks after pooling the views.
+    /// Distinct candidate blocks after pooling the views (when the direct path answered: the
+    /// candidates read exactly from closed parallelograms, all it pools).
     pub pooled_candidates: usize,
     /// The blocks the search chose (also when declined).
     pub hypothesis: Vec<Block>,
@@ -247,12 +258,14 @@ fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<D
     None
 }
 
-/// Steps 1-3 on one view: its proposals and evidence counts.
+/// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly
+/// when `fit_only`) and evidence counts.
 fn propose(
     view: &ObservedView,
     levels: &[f64],
     opts: &RecognizeOptions,
-) -> (Vec<Block>, ViewEvidence) {
+    fit_only: bool,
+) -> (Vec<Proposal>, ViewEvidence) {
     let selected = select_vertices(&view.drawing);
     let search = ParallelogramSearch::new(&view.drawing, opts.tol_px);
     let mut ev = ViewEvidence {
@@ -270,13 +283,9 @@ fn propose(
             };
             ev.parallelograms += 1;
             ev.closed_parallelograms += usize::from(p.closed.is_some());
-            out.extend(catalog_candidates(
-                &p,
-                &view.drawing,
-                &view.camera,
-                levels,
-                &opts.matching,
-            ));
+            let proposals =
+                catalog_proposals(&p, &view.drawing, &view.camera, levels, &opts.matching);
+            out.extend(proposals.into_iter().filter(|c| c.closed_fit || !fit_only));
         }
     }
     ev.proposals = out.len();
@@ -303,18 +312,85 @@ fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
 /// other (far below any catalog size, far above the measurement error).
 pub const SAME_PLACE_TOL_MM: f64 = 0.5;
 
+/// Steps 1-3 on every view and the pooling of step 4: the pooled candidates, with the views'
+/// evidence counts recorded in `evidence`.
+fn propose_and_pool(
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+    fit_only: bool,
+    evidence: &mut Evidence,
+) -> Vec<PooledCandidate> {
+    let levels = level_heights_mm(opts.max_height_mm);
+    evidence.views.clear();
+    let mut per_view = Vec::new();
+    for v in views {
+        let (proposals, ev) = propose(v, &levels, opts, fit_only);
+        per_view.push(proposals);
+        evidence.views.push(ev);
+    }
+    let pool = pool_proposals(&per_view, SAME_PLACE_TOL_MM);
+    evidence.pooled_candidates = pool.len();
+    pool
+}
+
+/// Step 4's choice. The direct path first, on the candidates read exactly from closed
+/// parallelograms: its hypothesis when its drawing explains every view, else the same without
+/// the blocks it draws in excess. Failing that, every candidate is pooled and the search
+/// continues from there, then starts from nothing.
+fn find_hypothesis(
+    views: &[ObservedView],
+    opts: &RecognizeOptions,
+    limits: &SearchLimits,
+    evidence: &mut Evidence,
+) -> Hypothesis {
+    let exact = propose_and_pool(views, opts, true, evidence);
+    let blocks = direct_hypothesis(&exact, views, limits.tol_px);
+    let direct = Hypothesis::new(blocks, views, limits.tol_px);
+    if direct.mismatch() == 0 {
+        return direct;
+    }
+    let pruned = without_excess(direct, views, limits.tol_px);
+    if pruned.mismatch() == 0 {
+        return pruned;
+    }
+    let pool = propose_and_pool(views, opts, false, evidence);
+    let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
+    if continued.mismatch() == 0 {
+        return continued;
+    }
+    choose_hypothesis(&pool, views, limits)
+}
+
+/// `h` without every block that draws a line no observed line explains, in some view (a
+/// candidate that would be seen where nothing is), checked again.
+fn without_excess(h: Hypothesis, views: &[ObservedView], tol_px: f64) -> Hypothesis {
+    let excess: Vec<usize> = views
+        .iter()
+        .zip(&h.drawn)
+        .flat_map(|(v, d)| blocks_drawn_in_excess(d, &v.drawing, tol_px))
+        .collect();
+    if excess.is_empty() {
+        return h;
+    }
+    let kept: Vec<Block> = (0..h.blocks.len())
+        .filter(|i| !excess.contains(i))
+        .map(|i| h.blocks[i])
+        .collect();
+    Hypothesis::new(kept, views, tol_px)
+}
+
 /// Step 6 and Chapter VII on the chosen blocks: why to decline, if at all.
 fn final_checks(
-    blocks: &[Block],
-    checks: &[ViewCheck],
+    h: &Hypothesis,
     views: &[ObservedView],
     opts: &RecognizeOptions,
 ) -> Option<Decline> {
-    if let Some((v, c)) = views.iter().zip(checks).find(|(_, c)| !c.is_explained()) {
+    let blocks = &h.blocks[..];
+    if let Some((v, c)) = views.iter().zip(&h.checks).find(|(_, c)| !c.is_explained()) {
         let view = v.camera.view.name().to_string();
         return Some(Decline::Unexplained { view, check: *c });
     }
-    if let Some(detail) = equally_good_alternative(blocks, views, opts.tol_px) {
+    if let Some(detail) = alternative_given_drawings(blocks, views, &h.drawn, opts.tol_px) {
         return Some(Decline::Ambiguous { detail });
     }
     if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
@@ -341,15 +417,6 @@ pub fn recognize(
     if let Some(d) = check_directions(views, opts) {
         return Ok(Recognition::declined(d, evidence));
     }
-    let levels = level_heights_mm(opts.max_height_mm);
-    let mut per_view = Vec::new();
-    for v in views {
-        let (blocks, ev) = propose(v, &levels, opts);
-        per_view.push(blocks);
-        evidence.views.push(ev);
-    }
-    let pool = pool_candidates(&per_view, SAME_PLACE_TOL_MM);
-    evidence.pooled_candidates = pool.len();
     let limits = SearchLimits {
         tol_px: opts.tol_px,
         shortlist: opts.shortlist,
@@ -357,17 +424,18 @@ pub fn recognize(
         max_blocks: opts.max_blocks,
         repair_rounds: opts.repair_rounds,
     };
-    let (blocks, checks) = choose_blocks(&pool, views, &limits);
-    for (ev, c) in evidence.views.iter_mut().zip(&checks) {
+    let h = find_hypothesis(views, opts, &limits, &mut evidence);
+    for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;
         ev.unexplained_lines = c.unexplained_lines;
         ev.extra_lines = c.extra_lines;
     }
-    evidence.hypothesis = blocks.clone();
-    if let Some(d) = final_checks(&blocks, &checks, views, opts) {
+    evidence.hypothesis = h.blocks.clone();
+    if let Some(d) = final_checks(&h, views, opts) {
         return Ok(Recognition::declined(d, evidence));
     }
+    let blocks = h.blocks;
     Ok(Recognition {
         layers: classify_layers(&blocks, SAME_PLACE_TOL_MM),
         touching: touching_pairs(&blocks, SAME_PLACE_TOL_MM),

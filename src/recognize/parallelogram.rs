@@ -6,6 +6,7 @@
 
 use super::select::SelectedVertex;
 use super::Camera;
+use crate::camera::Projector;
 use crate::drawing::{Direction, LineDrawing, COLLINEAR_TOL_DEG};
 use crate::geom::{DVec2, DVec3};
 
@@ -168,12 +169,12 @@ impl<'a> ParallelogramSearch<'a> {
             let heading = self.at(cur) - origin;
             let next = self.neighbours[cur].iter().copied().find(|&n| {
                 let step = self.at(n) - self.at(cur);
-                // Collinear within COLLINEAR_TOL_DEG, or within the point tolerance.
-                let tol_deg = (self.tol_px / step.length().max(1e-9))
-                    .atan()
-                    .to_degrees()
-                    .max(COLLINEAR_TOL_DEG);
-                n != prev && step.angle_to(heading).abs().to_degrees() < tol_deg
+                // Collinear within COLLINEAR_TOL_DEG, or within the point tolerance: the
+                // cosine of max(COLLINEAR_TOL_DEG, atan(tol / step)), against the dot product.
+                let x = self.tol_px / step.length().max(1e-9);
+                let cos_tol =
+                    (1.0 / (1.0 + x * x).sqrt()).min(COLLINEAR_TOL_DEG.to_radians().cos());
+                n != prev && step.dot(heading) > cos_tol * step.length() * heading.length()
             });
             match next {
                 Some(n) => (prev, cur) = (cur, n),
@@ -236,7 +237,17 @@ impl<'a> ParallelogramSearch<'a> {
 /// ray through the pixel meets the horizontal plane (exact in any projection). `None` when the
 /// ray is parallel to the plane.
 pub fn point_at_height_mm(camera: &Camera, p_px: DVec2, y_mm: f64) -> Option<DVec3> {
-    let (o, d) = camera.ray_through_picture(p_px.x, p_px.y);
+    point_at_height_on(&Projector::new(camera), p_px, y_mm)
+}
+
+/// [`point_at_height_mm`] with the camera's projector made once (the measurements of
+/// Chapter IV convert many points of one view).
+pub(super) fn point_at_height_on(proj: &Projector, p_px: DVec2, y_mm: f64) -> Option<DVec3> {
+    ray_at_height(proj.ray(p_px), y_mm)
+}
+
+/// Where the ray `(origin, unit direction)` meets the horizontal plane at height `y_mm`.
+pub(super) fn ray_at_height((o, d): (DVec3, DVec3), y_mm: f64) -> Option<DVec3> {
     if d.y.abs() < 1e-12 {
         return None;
     }
@@ -247,7 +258,16 @@ pub fn point_at_height_mm(camera: &Camera, p_px: DVec2, y_mm: f64) -> Option<DVe
 /// How far below the world point `top_mm` the vertical edge through it reaches when its lower
 /// end is seen at `bottom_px`, mm (the point of the vertical line closest to that ray).
 pub fn drop_below_mm(camera: &Camera, top_mm: DVec3, bottom_px: DVec2) -> f64 {
-    let (o, d) = camera.ray_through_picture(bottom_px.x, bottom_px.y);
+    drop_below_on(&Projector::new(camera), top_mm, bottom_px)
+}
+
+/// [`drop_below_mm`] with the camera's projector made once.
+pub(super) fn drop_below_on(proj: &Projector, top_mm: DVec3, bottom_px: DVec2) -> f64 {
+    drop_below_ray(proj.ray(bottom_px), top_mm)
+}
+
+/// [`drop_below_mm`] for the ray `(origin, unit direction)` through the lower end.
+pub(super) fn drop_below_ray((o, d): (DVec3, DVec3), top_mm: DVec3) -> f64 {
     let w0 = top_mm - o;
     let b = DVec3::Y.dot(d);
     let denom = 1.0 - b * b;
@@ -262,10 +282,19 @@ pub fn drop_below_mm(camera: &Camera, top_mm: DVec3, bottom_px: DVec2) -> f64 {
 /// `picture_dir`, and the angle between them in degrees (Chapter VII: blocks in one direction
 /// have their edges along the world axes).
 pub fn horizontal_axis_for(camera: &Camera, at_mm: DVec3, picture_dir: DVec2) -> (DVec3, f64) {
-    let p0 = camera.picture_from_world(at_mm).truncate();
+    horizontal_axis_on(&Projector::new(camera), at_mm, picture_dir)
+}
+
+/// [`horizontal_axis_for`] with the camera's projector made once.
+pub(super) fn horizontal_axis_on(
+    proj: &Projector,
+    at_mm: DVec3,
+    picture_dir: DVec2,
+) -> (DVec3, f64) {
+    let p0 = proj.picture(at_mm);
     let mut best = (DVec3::X, f64::INFINITY);
     for axis in [DVec3::X, DVec3::NEG_X, DVec3::Z, DVec3::NEG_Z] {
-        let q = camera.picture_from_world(at_mm + axis).truncate();
+        let q = proj.picture(at_mm + axis);
         let ang = (q - p0).angle_to(picture_dir).abs().to_degrees();
         if ang < best.1 {
             best = (axis, ang);

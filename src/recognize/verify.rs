@@ -55,18 +55,28 @@ pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 fn line_explained(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol_px: f64) -> bool {
     let (a, b) = (from.points[line[0]], from.points[line[1]]);
     let dir = b - a;
-    // Parallel within 3 degrees, or within what the point tolerance allows on a short line.
-    let max_angle_deg = (2.0 * tol_px / dir.length().max(1e-9))
-        .atan()
-        .to_degrees()
-        .max(3.0);
+    // Parallel within 3 degrees, or within what the point tolerance allows on a short line:
+    // the sine of max(3 deg, atan(2 tol / length)), compared with the lines' cross product.
+    let x = 2.0 * tol_px / dir.length().max(1e-9);
+    let sin_max = (x / (1.0 + x * x).sqrt()).max(3f64.to_radians().sin());
+    let dir_len = dir.length();
+    if dir_len == 0.0 {
+        return false;
+    }
     let samples = [a, (a + b) / 2.0, b, a.lerp(b, 0.25), a.lerp(b, 0.75)];
     samples.iter().all(|&s| {
         to.lines.iter().any(|&[i, j]| {
             let (c, d) = (to.points[i], to.points[j]);
-            let parallel = (d - c).angle_to(dir).abs().to_degrees();
-            let parallel = parallel.min(180.0 - parallel);
-            parallel <= max_angle_deg && distance_to_segment_px(s, c, d) <= tol_px
+            let near_box = s.x >= c.x.min(d.x) - tol_px
+                && s.x <= c.x.max(d.x) + tol_px
+                && s.y >= c.y.min(d.y) - tol_px
+                && s.y <= c.y.max(d.y) + tol_px;
+            let e = d - c;
+            let e_len = e.length();
+            near_box
+                && e_len > 0.0
+                && e.perp_dot(dir).abs() <= sin_max * e_len * dir_len
+                && distance_to_segment_px(s, c, d) <= tol_px
         })
     })
 }
@@ -91,6 +101,25 @@ pub fn compare_drawings(drawn: &LineDrawing, observed: &LineDrawing, tol_px: f64
         unexplained_lines: count_lines(observed, drawn),
         extra_lines: count_lines(drawn, observed),
     }
+}
+
+/// The blocks (indices into the drawn hypothesis) owning a line of `drawn` that no observed
+/// line explains: what the hypothesis draws in excess, by block, sorted and without repeats.
+pub fn blocks_drawn_in_excess(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    tol_px: f64,
+) -> Vec<usize> {
+    let mut out: Vec<usize> = drawn
+        .lines
+        .iter()
+        .zip(&drawn.edges)
+        .filter(|(l, _)| !line_explained(drawn, **l, observed, tol_px))
+        .map(|(_, e)| e.block)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
 }
 
 /// Draws `blocks` in `camera` with the exact hidden-line removal of `render::truth`.

@@ -108,11 +108,17 @@ pub(super) fn join_pieces(pieces: Vec<Piece>, gap_t: impl Fn(usize) -> f64) -> V
 fn collect_cuts(geo: &SceneGeometry, ei: usize, tol: &TruthTolerances, cuts: &mut Vec<f64>) {
     let e = &geo.edges[ei];
     let sin_par = tol.parallel_deg.to_radians().sin();
+    // An edge whose box is farther than the seam from this edge's box comes nowhere near it.
+    let (lo, hi) = (e.a.min(e.b) - tol.seam_mm, e.a.max(e.b) + tol.seam_mm);
     for (bi, block) in geo.blocks.iter().enumerate() {
         if bi == e.block || !geo.blocks_near(bi, e.block, tol.seam_mm) {
             continue;
         }
         for other in &geo.edges[block.edges.clone()] {
+            let (olo, ohi) = (other.a.min(other.b), other.a.max(other.b));
+            if olo.cmpgt(hi).any() || ohi.cmplt(lo).any() {
+                continue;
+            }
             let (d1, d2) = (e.b - e.a, other.b - other.a);
             if d1.cross(d2).length() <= sin_par * d1.length() * d2.length() {
                 for x in [other.a, other.b] {
@@ -208,7 +214,8 @@ fn classify(geo: &SceneGeometry, ei: usize, t: [f64; 2], tol: &TruthTolerances) 
     let (a, b) = (&geo.faces[f1], &geo.faces[f2]);
     let other = [a.block, b.block].into_iter().find(|&k| k != e.block);
     let contact = a.block != b.block;
-    let parallel = a.normal.angle_between(b.normal).to_degrees() <= tol.parallel_deg;
+    // Unit normals: within the angle exactly when the cosine is at least its cosine (no acos).
+    let parallel = a.normal.dot(b.normal) >= tol.parallel_deg.to_radians().cos();
     if parallel && a.plane_distance(x2).abs() <= tol.seam_mm {
         if !contact {
             return None;

@@ -103,6 +103,8 @@ pub(super) struct SceneGeometry {
     pub proj: Projector,
     /// All faces of all blocks, block by block.
     pub faces: Vec<Face>,
+    /// Indices of the front-facing ones, in order (the only faces that hide or are hit).
+    pub front_faces: Vec<usize>,
     /// All edges of all blocks, block by block.
     pub edges: Vec<Edge>,
     /// Per block.
@@ -182,9 +184,11 @@ impl SceneGeometry {
         }
         let centre = DVec3::from_array(camera.target_mm);
         let px_per_mm = proj.px_per_mm(centre);
+        let front_faces = (0..faces.len()).filter(|&f| faces[f].front).collect();
         SceneGeometry {
             proj,
             faces,
+            front_faces,
             edges,
             blocks,
             px_per_mm,
@@ -195,8 +199,9 @@ impl SceneGeometry {
     pub fn first_hit(&self, q: DVec2) -> Option<(usize, DVec3)> {
         let (o, d) = self.proj.ray(q);
         let mut best: Option<(usize, DVec3, f64)> = None;
-        for (fi, f) in self.faces.iter().enumerate() {
-            if !f.front || !f.contains_px(q, 0.0) {
+        for &fi in &self.front_faces {
+            let f = &self.faces[fi];
+            if !f.contains_px(q, 0.0) {
                 continue;
             }
             let den = f.normal.dot(d);

@@ -36,9 +36,8 @@ pub(super) fn visible_intervals(
         }
         hidden.clear();
         let (lo, hi) = (edge.pa.min(edge.pb), edge.pa.max(edge.pb));
-        for face in &geo.faces {
-            if !face.front
-                || face.block == edge.block
+        for face in geo.front_faces.iter().map(|&f| &geo.faces[f]) {
+            if face.block == edge.block
                 || face.lo.x > hi.x + OVERLAP_EPS_PX
                 || face.lo.y > hi.y + OVERLAP_EPS_PX
                 || face.hi.x < lo.x - OVERLAP_EPS_PX

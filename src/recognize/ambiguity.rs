@@ -1,0 +1,358 @@
+//! Step 6's last question: do the views decide the blocks? Another set of catalog blocks that
+//! explains every view equally well (one chosen block split in two, or two merged into one,
+//! their crack hidden in every view) means the sample cannot be told, and answering would risk
+//! a confident wrong answer (Chapter VII: what the method cannot do is declined).
+//!
+//! Every alternative is decided by the exact redraw (`render::truth`), except where the
+//! hypothesis's own exact drawing already *proves* the alternative draws a point that nothing
+//! observed is near (a split block's edge visible across the crack), or lacks every point near
+//! an observed one (a crack between two blocks, visible in the hypothesis's drawing, that a
+//! merged block would not have). Such proofs only skip redraws; they never accept an answer.
+
+use super::catalog_match::bounds_mm;
+use super::compare::{catalog_merge, catalog_splits};
+use super::verify::{compare_drawings, draw_hypothesis};
+use super::{Camera, ObservedView};
+use crate::drawing::{LineDrawing, LineKind};
+use crate::geom::{DVec2, DVec3};
+use crate::scene::Block;
+
+/// A crossing this close to a visible piece's end, mm, proves nothing (the piece may end at
+/// the crack itself).
+const CROSSING_MARGIN_MM: f64 = 0.5;
+/// A point this close to a block's bounding plane, mm, lies on it.
+const ON_PLANE_MM: f64 = 0.1;
+/// Lines within this angle of straight on at a point continue each other, degrees.
+const STRAIGHT_ON_DEG: f64 = 3.0;
+
+/// Where the crack of two halves lies: the world axis across it and its coordinate, mm.
+fn crack_plane(halves: &[Block; 2]) -> (usize, f64) {
+    let d = (halves[1].center_mm - halves[0].center_mm).abs();
+    let k = if d.x >= d.y && d.x >= d.z {
+        0
+    } else if d.y >= d.z {
+        1
+    } else {
+        2
+    };
+    (k, (halves[0].center_mm[k] + halves[1].center_mm[k]) / 2.0)
+}
+
+/// `true` when `q_mm` lies on an edge of block `b` (on two of its bounding planes, inside the
+/// third extent).
+fn on_block_edge(b: &Block, q_mm: DVec3) -> bool {
+    let (lo, hi) = bounds_mm(b);
+    let inside = (0..3).all(|k| q_mm[k] >= lo[k] - ON_PLANE_MM && q_mm[k] <= hi[k] + ON_PLANE_MM);
+    let planes = (0..3)
+        .filter(|&k| {
+            (q_mm[k] - lo[k]).abs() <= ON_PLANE_MM || (q_mm[k] - hi[k]).abs() <= ON_PLANE_MM
+        })
+        .count();
+    inside && planes >= 2
+}
+
+/// The world points where visible lines of block `i` in `drawn` cross the crack plane `(k, c)`
+/// well inside their visible piece: there the split alternative draws a point (the halves'
+/// edges meet, and the crack line ends).
+fn visible_crossings(
+    drawn: &LineDrawing,
+    blocks: &[Block],
+    i: usize,
+    k: usize,
+    c: f64,
+) -> Vec<DVec3> {
+    drawn
+        .edges
+        .iter()
+        .filter(|e| e.block == i || e.other_block == Some(i))
+        .filter_map(|e| {
+            let (a, b) = (DVec3::from_array(e.from_mm), DVec3::from_array(e.to_mm));
+            let d = b - a;
+            let across = d[k].abs() > 0.999 * d.length();
+            let (lo, hi) = (a[k].min(b[k]), a[k].max(b[k]));
+            let inside = lo < c - CROSSING_MARGIN_MM && hi > c + CROSSING_MARGIN_MM;
+            let q = a + d * ((c - a[k]) / d[k]);
+            (across && inside && on_block_edge(&blocks[i], q)).then_some(q)
+        })
+        .collect()
+}
+
+fn near_any(p: DVec2, points: &[DVec2], r_px: f64) -> bool {
+    points.iter().any(|q| q.distance(p) <= r_px)
+}
+
+/// `true` when view `(drawn, observed, camera)` proves that splitting block `i` into `halves`
+/// is not explained there: the split draws a point where a visible edge of block `i` crosses
+/// the crack, and no observed point is within `tol_px` of it (an extra point, step 6).
+fn split_refuted(
+    blocks: &[Block],
+    i: usize,
+    halves: &[Block; 2],
+    drawn: &LineDrawing,
+    observed: &ObservedView,
+    tol_px: f64,
+) -> bool {
+    let (k, c) = crack_plane(halves);
+    let camera: &Camera = &observed.camera;
+    visible_crossings(drawn, blocks, i, k, c).iter().any(|&q| {
+        let p = camera.picture_from_world(q).truncate();
+        !near_any(p, &observed.drawing.points, tol_px + 0.05)
+    })
+}
+
+/// The lines of `drawn` at point `p` (their indices).
+fn lines_at(drawn: &LineDrawing, p: usize) -> Vec<usize> {
+    (0..drawn.lines.len())
+        .filter(|&l| drawn.lines[l].contains(&p))
+        .collect()
+}
+
+/// Whether point `p` of `drawn` disappears when blocks `i` and `j` become one: every line at it
+/// belongs to the pair, one at least is their crack, and the others are none or two lines
+/// continuing each other straight on (the merged block's edge, now unbroken).
+fn vanishes_when_merged(drawn: &LineDrawing, p: usize, pair: [usize; 2]) -> bool {
+    let ours = |b: Option<usize>| b.is_none_or(|b| pair.contains(&b));
+    let lines = lines_at(drawn, p);
+    let is_crack = |l: usize| {
+        let e = &drawn.edges[l];
+        drawn.kinds.get(l) == Some(&LineKind::Crack)
+            && pair.contains(&e.block)
+            && e.other_block
+                .is_some_and(|o| pair.contains(&o) && o != e.block)
+    };
+    if lines.is_empty()
+        || !lines
+            .iter()
+            .all(|&l| ours(Some(drawn.edges[l].block)) && ours(drawn.edges[l].other_block))
+    {
+        return false;
+    }
+    if !lines.iter().any(|&l| is_crack(l)) {
+        return false;
+    }
+    let rest: Vec<usize> = lines.into_iter().filter(|&l| !is_crack(l)).collect();
+    let away = |l: usize| {
+        let [a, b] = drawn.lines[l];
+        let other = if a == p { b } else { a };
+        drawn.points[other] - drawn.points[p]
+    };
+    match rest[..] {
+        [] => true,
+        [l, m] => away(l).angle_to(away(m)).abs().to_degrees() >= 180.0 - STRAIGHT_ON_DEG,
+        _ => false,
+    }
+}
+
+/// `true` when the view proves that merging blocks `i` and `j` is not explained there: a point
+/// of the hypothesis's drawing that vanishes in the merge has an observed point within
+/// `tol_px`, and every drawn point within `2 tol_px` of it vanishes too, so the merged drawing
+/// has no point near that observed one (an unexplained point, step 6).
+fn merge_refuted(
+    pair: [usize; 2],
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    tol_px: f64,
+) -> bool {
+    if drawn.edges.len() != drawn.lines.len() || drawn.kinds.len() != drawn.lines.len() {
+        return false;
+    }
+    (0..drawn.points.len()).any(|p| {
+        let at = drawn.points[p];
+        vanishes_when_merged(drawn, p, pair)
+            && near_any(at, &observed.points, tol_px)
+            && (0..drawn.points.len()).all(|q| {
+                drawn.points[q].distance(at) > 2.0 * tol_px || vanishes_when_merged(drawn, q, pair)
+            })
+    })
+}
+
+/// Another hypothesis that explains every view equally well, found by splitting one chosen
+/// block or merging two (a crack hidden in every view): then the views cannot tell which is
+/// the sample, and answering would risk a confident wrong answer. Returns a description.
+pub fn equally_good_alternative(
+    blocks: &[Block],
+    views: &[ObservedView],
+    tol_px: f64,
+) -> Option<String> {
+    let drawn: Vec<LineDrawing> = views
+        .iter()
+        .map(|v| draw_hypothesis(blocks, &v.camera))
+        .collect();
+    alternative_given_drawings(blocks, views, &drawn, tol_px)
+}
+
+/// [`equally_good_alternative`] given the hypothesis's own exact drawing in every view (as
+/// step 6 made it): alternatives those drawings refute are not redrawn.
+pub(super) fn alternative_given_drawings(
+    blocks: &[Block],
+    views: &[ObservedView],
+    drawn: &[LineDrawing],
+    tol_px: f64,
+) -> Option<String> {
+    let explains = |alt: &[Block]| {
+        views.iter().all(|v| {
+            compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, tol_px).is_explained()
+        })
+    };
+    for (i, b) in blocks.iter().enumerate() {
+        for halves in catalog_splits(b) {
+            let refuted = views
+                .iter()
+                .zip(drawn)
+                .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, tol_px));
+            let mut alt = blocks.to_vec();
+            alt.splice(i..=i, halves);
+            if !refuted && explains(&alt) {
+                return Some(format!(
+                    "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
+                    b.block_type.id, halves[0].block_type.id
+                ));
+            }
+        }
+    }
+    for i in 0..blocks.len() {
+        for j in i + 1..blocks.len() {
+            let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
+                continue;
+            };
+            let refuted = views
+                .iter()
+                .zip(drawn)
+                .any(|(v, d)| merge_refuted([i, j], d, &v.drawing, tol_px));
+            let mut alt: Vec<Block> = blocks.to_vec();
+            alt.remove(j);
+            alt[i] = m;
+            if !refuted && explains(&alt) {
+                return Some(format!(
+                    "blocks {i} and {j} could as well be one {} (their crack is hidden in every view)",
+                    m.block_type.id
+                ));
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recognize::{CameraOptions, CornerView};
+
+    fn views_of(blocks: &[Block]) -> Vec<ObservedView> {
+        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        CornerView::ALL
+            .iter()
+            .map(|&v| {
+                let camera = Camera::frame(&pts, v, &CameraOptions::default());
+                let drawing = draw_hypothesis(blocks, &camera);
+                ObservedView { drawing, camera }
+            })
+            .collect()
+    }
+
+    /// The 3 x 3 layer of b15 with a row of three on top (`bench render`'s 12-block stack).
+    fn stack() -> Vec<Block> {
+        (0..12)
+            .map(|k: usize| {
+                let (layer, i) = (k / 9, k % 9);
+                let centre = DVec3::new(
+                    (i % 3) as f64 * 15.0,
+                    layer as f64 * 15.0 + 7.5,
+                    (i / 3) as f64 * 15.0,
+                );
+                Block::new("b15", centre, 0.0)
+            })
+            .collect()
+    }
+
+    /// Every split and merge alternative of `blocks`: refuted by some view, and whether the
+    /// exact redraw explains every view.
+    fn alternatives(blocks: &[Block], views: &[ObservedView]) -> Vec<(String, bool, bool)> {
+        let drawn: Vec<LineDrawing> = views
+            .iter()
+            .map(|v| draw_hypothesis(blocks, &v.camera))
+            .collect();
+        let explains = |alt: &[Block]| {
+            views.iter().all(|v| {
+                compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, 2.0).is_explained()
+            })
+        };
+        let mut out = Vec::new();
+        for (i, b) in blocks.iter().enumerate() {
+            for halves in catalog_splits(b) {
+                let refuted = views
+                    .iter()
+                    .zip(&drawn)
+                    .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, 2.0));
+                let mut alt = blocks.to_vec();
+                alt.splice(i..=i, halves);
+                out.push((format!("split {i}"), refuted, explains(&alt)));
+            }
+        }
+        for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
+                    continue;
+                };
+                let refuted = views
+                    .iter()
+                    .zip(&drawn)
+                    .any(|(v, d)| merge_refuted([i, j], d, &v.drawing, 2.0));
+                let mut alt = blocks.to_vec();
+                alt.remove(j);
+                alt[i] = m;
+                out.push((format!("merge {i} {j}"), refuted, explains(&alt)));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_refuted_alternative_never_explains_the_views_and_most_are_refuted() {
+        let row = vec![
+            Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(22.5, 7.5, 7.5), 0.0),
+            Block::new("b15", DVec3::new(7.5, 22.5, 7.5), 0.0),
+        ];
+        for blocks in [row, stack()] {
+            let views = views_of(&blocks);
+            let alts = alternatives(&blocks, &views);
+            assert!(!alts.is_empty());
+            for (what, refuted, explains) in &alts {
+                assert!(
+                    !(*refuted && *explains),
+                    "{what}: refuted, yet the redraw explains"
+                );
+            }
+            // Only alternatives whose crack hides or meets other blocks' lines go to the redraw.
+            let refuted = alts.iter().filter(|a| a.1).count();
+            assert!(4 * refuted >= 3 * alts.len(), "{alts:?}");
+        }
+    }
+
+    #[test]
+    fn the_stacks_middle_bottom_block_is_not_refuted_and_is_found_ambiguous() {
+        let blocks = stack();
+        let views = views_of(&blocks);
+        let alts = alternatives(&blocks, &views);
+        let middle = alts.iter().find(|a| a.0 == "split 4").unwrap();
+        assert_eq!(
+            (middle.1, middle.2),
+            (false, true),
+            "its sides touch its neighbours: two stacked b7_5 draw the same views"
+        );
+        let detail = equally_good_alternative(&blocks, &views, 2.0).unwrap();
+        assert!(
+            detail.starts_with("block 4 (b15) could as well be two b7_5"),
+            "{detail}"
+        );
+        // A lone cube shows its middle: its split is refuted and nothing is ambiguous.
+        let cube = vec![Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0)];
+        let views = views_of(&cube);
+        assert!(
+            alternatives(&cube, &views)[0].1,
+            "a lone cube shows its middle"
+        );
+        assert_eq!(equally_good_alternative(&cube, &views, 2.0), None);
+    }
+}
