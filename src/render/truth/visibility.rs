@@ -29,6 +29,7 @@ pub(super) fn visible_intervals(
 ) -> Vec<EdgeIntervals> {
     let mut out = Vec::new();
     let mut hidden: Vec<[f64; 2]> = Vec::new();
+    let mut near = Vec::new();
     for (ei, edge) in geo.edges.iter().enumerate() {
         progress(ei as u64 + 1);
         if !edge.may_show(&geo.faces) {
@@ -36,7 +37,8 @@ pub(super) fn visible_intervals(
         }
         hidden.clear();
         let (lo, hi) = (edge.pa.min(edge.pb), edge.pa.max(edge.pb));
-        for face in geo.front_faces.iter().map(|&f| &geo.faces[f]) {
+        geo.grid.candidates(lo, hi, &mut near);
+        for face in near.iter().map(|&f| &geo.faces[f]) {
             if face.block == edge.block
                 || face.lo.x > hi.x + OVERLAP_EPS_PX
                 || face.lo.y > hi.y + OVERLAP_EPS_PX
