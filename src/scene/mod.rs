@@ -20,7 +20,7 @@ pub use file::{
 };
 pub use reconstruction::{CsgNode, Evidence, ReconStatus, Reconstruction, ViewEvidence};
 
-use crate::geom::{bounds3, outside_world, DVec3, CONTACT_TOL_MM};
+use crate::geom::{bounds3, outside_world, touching_box_pairs, DVec3, CONTACT_TOL_MM};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
@@ -234,30 +234,6 @@ impl Scene {
     }
 }
 
-/// The pairs `[a, b]` (a < b, sorted) of axis-aligned boxes `(min, max)` that touch or
-/// overlap, found by a sweep along x (sort by min x, keep the boxes still open): the same pairs
-/// as comparing every pair, in time near linear for stacks spread over the floor.
-fn touching_box_pairs(boxes: &[(DVec3, DVec3)]) -> Vec<[usize; 2]> {
-    let disjoint = |(lo_a, hi_a): (DVec3, DVec3), (lo_b, hi_b): (DVec3, DVec3)| {
-        hi_a.cmplt(lo_b).any() || hi_b.cmplt(lo_a).any()
-    };
-    let mut order: Vec<usize> = (0..boxes.len()).collect();
-    order.sort_by(|&i, &j| boxes[i].0.x.total_cmp(&boxes[j].0.x).then(i.cmp(&j)));
-    let mut open: Vec<usize> = Vec::new();
-    let mut pairs = Vec::new();
-    for &i in &order {
-        open.retain(|&j| boxes[j].1.x >= boxes[i].0.x);
-        pairs.extend(
-            open.iter()
-                .filter(|&&j| !disjoint(boxes[i], boxes[j]))
-                .map(|&j| [i.min(j), i.max(j)]),
-        );
-        open.push(i);
-    }
-    pairs.sort_unstable();
-    pairs
-}
-
 /// Refuses a block with a vertex outside the world extent (README "Conventions"): finite but
 /// huge coordinates would overflow the renderer's f32 and write `null` into cameras and glTF.
 pub(crate) fn check_in_world(b: &Block, index: usize, source: &str) -> Result<(), SceneError> {
@@ -278,41 +254,6 @@ mod tests {
     /// Regression: validation ran the separating-axis test on every pair (a 5,000-block grid
     /// took 78 s); the bounding-box pre-check must still find the first overlapping pair, also
     /// between turned blocks whose boxes overlap while the blocks only touch.
-    #[test]
-    fn the_sweep_finds_the_same_box_pairs_as_comparing_every_pair() {
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) as f64 / (1u64 << 31) as f64
-        };
-        let boxes: Vec<(DVec3, DVec3)> = (0..300)
-            .map(|_| {
-                let lo = DVec3::new(next() * 100.0, next() * 20.0, next() * 100.0);
-                let size = DVec3::new(next() * 15.0, next() * 15.0, next() * 15.0);
-                (lo, lo + size)
-            })
-            .collect();
-        let mut every = Vec::new();
-        for a in 0..boxes.len() {
-            for b in a + 1..boxes.len() {
-                let (ba, bb) = (boxes[a], boxes[b]);
-                if !(ba.1.cmplt(bb.0).any() || bb.1.cmplt(ba.0).any()) {
-                    every.push([a, b]);
-                }
-            }
-        }
-        assert!(every.len() > 100, "the random boxes must touch often");
-        assert_eq!(touching_box_pairs(&boxes), every);
-        // Boxes that only share a face count as touching.
-        let face = [
-            (DVec3::ZERO, DVec3::splat(15.0)),
-            (DVec3::new(15.0, 0.0, 0.0), DVec3::new(30.0, 15.0, 15.0)),
-        ];
-        assert_eq!(touching_box_pairs(&face), vec![[0, 1]]);
-    }
-
     #[test]
     fn bounding_box_precheck_keeps_every_overlap() {
         let grid: Vec<Block> = (0..900)

@@ -8,7 +8,7 @@ use super::geometry::SceneGeometry;
 use super::visibility::EdgeIntervals;
 use super::TruthTolerances;
 use crate::drawing::LineKind;
-use crate::geom::DVec3;
+use crate::geom::{touching_box_pairs, DVec3};
 
 /// A hit on a side ray counts as "at the edge" when it is at most this many sample offsets away
 /// (a face seen at a grazing angle of about 3 degrees still qualifies).
@@ -52,10 +52,12 @@ pub(super) fn classify_pieces(
 ) -> Vec<Piece> {
     let mut out = Vec::new();
     let mut cuts = Vec::new();
+    let near = near_blocks(geo, tol.seam_mm);
     for (n, ei) in intervals.iter().enumerate() {
         progress(n as u64 + 1);
         cuts.clear();
-        collect_cuts(geo, ei.edge, tol, &mut cuts);
+        let e = &geo.edges[ei.edge];
+        collect_cuts(geo, ei.edge, &near[e.block], tol, &mut cuts);
         cuts.sort_by(f64::total_cmp);
         cuts.dedup_by(|b, a| *b - *a < 1e-9);
         for &[t0, t1] in &ei.intervals {
@@ -104,16 +106,43 @@ pub(super) fn join_pieces(pieces: Vec<Piece>, gap_t: impl Fn(usize) -> f64) -> V
     out
 }
 
-/// Edge parameters where another block's edge or vertex touches edge `ei` (within `seam_mm`).
-fn collect_cuts(geo: &SceneGeometry, ei: usize, tol: &TruthTolerances, cuts: &mut Vec<f64>) {
+/// Per block, the other blocks within `gap_mm` of it ([`SceneGeometry::blocks_near`]),
+/// ascending: found by a sweep over the boxes grown by a little more than half the gap (a
+/// superset), then the exact test, so the lists are those of comparing every pair.
+fn near_blocks(geo: &SceneGeometry, gap_mm: f64) -> Vec<Vec<usize>> {
+    let grow = DVec3::splat(gap_mm / 2.0 + 1e-6);
+    let boxes: Vec<(DVec3, DVec3)> = geo
+        .blocks
+        .iter()
+        .map(|b| (b.lo - grow, b.hi + grow))
+        .collect();
+    let mut near = vec![Vec::new(); geo.blocks.len()];
+    for [a, b] in touching_box_pairs(&boxes) {
+        if geo.blocks_near(a, b, gap_mm) {
+            near[a].push(b);
+            near[b].push(a);
+        }
+    }
+    for n in &mut near {
+        n.sort_unstable();
+    }
+    near
+}
+
+/// Edge parameters where an edge or vertex of a block in `near` (the blocks near this edge's
+/// block) touches edge `ei` (within `seam_mm`).
+fn collect_cuts(
+    geo: &SceneGeometry,
+    ei: usize,
+    near: &[usize],
+    tol: &TruthTolerances,
+    cuts: &mut Vec<f64>,
+) {
     let e = &geo.edges[ei];
     let sin_par = tol.parallel_deg.to_radians().sin();
     // An edge whose box is farther than the seam from this edge's box comes nowhere near it.
     let (lo, hi) = (e.a.min(e.b) - tol.seam_mm, e.a.max(e.b) + tol.seam_mm);
-    for (bi, block) in geo.blocks.iter().enumerate() {
-        if bi == e.block || !geo.blocks_near(bi, e.block, tol.seam_mm) {
-            continue;
-        }
+    for block in near.iter().map(|&bi| &geo.blocks[bi]) {
         for other in &geo.edges[block.edges.clone()] {
             let (olo, ohi) = (other.a.min(other.b), other.a.max(other.b));
             if olo.cmpgt(hi).any() || ohi.cmplt(lo).any() {
