@@ -36,6 +36,21 @@ enum Which {
     Scale(scale::Args),
 }
 
+/// The fastest of `repeat` runs of `f` (at least one), in ms, with the last run's result: the
+/// one timing loop of the benchmarks (the fastest run is the one least disturbed by a shared
+/// machine).
+fn fastest_ms<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..repeat.max(1) {
+        let t = std::time::Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64() * 1e3);
+        out = Some(r);
+    }
+    (best, out.expect("at least one run"))
+}
+
 /// Runs one benchmark.
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.which {

@@ -5,6 +5,7 @@
 //! Figure 6.17), measured: the bytes of the six-bit vertex table against everything else the
 //! recognizer keeps for a scene.
 
+use super::fastest_ms;
 use super::machine::banner;
 use super::render::bench_scene;
 use crate::cli::view_args::ViewArgs;
@@ -15,7 +16,6 @@ use blockworld::render::Renderer;
 use blockworld::scene::{read_scene, Block, Scene};
 use blockworld::vision::VisionOptions;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Options of `blockworld bench recognize`.
 #[derive(Debug, clap::Args)]
@@ -40,16 +40,6 @@ struct Figures {
     other_bytes: usize,
 }
 
-fn fastest_ms(repeat: usize, mut f: impl FnMut()) -> f64 {
-    (0..repeat.max(1))
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// The six-bit table is one byte per vertex (six bits used); everything else: the drawings'
 /// points, lines and junction classes, and the recognizer's candidate and answer blocks.
 fn memory_bytes(views: &[ObservedView], r: &Recognition) -> (usize, usize) {
@@ -65,17 +55,13 @@ fn measure(renderer: &Renderer, scene: &Scene, args: &Args) -> anyhow::Result<Fi
     let views = args.view.corner_views()?;
     let rendered = renderer.render_views(scene, &views, &opts)?;
     let source = DrawingSource::Pictures(VisionOptions::default());
-    let mut observed = Vec::new();
-    let vision_ms = fastest_ms(args.repeat, || {
-        observed = observe(&rendered, &source)
+    let (vision_ms, observed) = fastest_ms(args.repeat, || {
+        observe(&rendered, &source)
             .map(|(v, _)| v)
-            .unwrap_or_default();
+            .unwrap_or_default()
     });
     let ropts = RecognizeOptions::default();
-    let mut last = None;
-    let recognize_ms = fastest_ms(args.repeat, || {
-        last = recognize(&observed, &ropts).ok();
-    });
+    let (recognize_ms, last) = fastest_ms(args.repeat, || recognize(&observed, &ropts).ok());
     let r = last.context("the recognizer refused its input")?;
     let (six_bit_bytes, other_bytes) = memory_bytes(&observed, &r);
     Ok(Figures {

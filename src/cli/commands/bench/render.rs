@@ -27,18 +27,26 @@ pub struct Args {
 
 /// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
 pub fn bench_scene(n: usize) -> Scene {
+    b15_layers(n, 3, format!("bench_{n}"))
+}
+
+/// `n` Baustein 15 in layers of `side` x `side` touching cubes, filled layer by layer from the
+/// floor (a stable stack whose every view shows seams): the one stack generator of the
+/// benchmarks.
+pub fn b15_layers(n: usize, side: usize, name: String) -> Scene {
+    let side = side.max(1);
     let blocks = (0..n)
-        .map(|k| {
-            let (layer, i) = (k / 9, k % 9);
+        .map(|i| {
+            let (layer, cell) = (i / (side * side), i % (side * side));
             let centre = DVec3::new(
-                (i % 3) as f64 * 15.0,
+                (cell % side) as f64 * 15.0,
                 layer as f64 * 15.0 + 7.5,
-                (i / 3) as f64 * 15.0,
+                (cell / side) as f64 * 15.0,
             );
             Block::new("b15", centre, 0.0)
         })
         .collect();
-    Scene::new(format!("bench_{n}"), blocks)
+    Scene::new(name, blocks)
 }
 
 /// Runs `blockworld bench render`.

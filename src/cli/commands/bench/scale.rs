@@ -4,16 +4,16 @@
 //! against itself (parry3d volume overlap). Beside the times, the growth exponent between
 //! consecutive sizes: `log(t2 / t1) / log(n2 / n1)`, 1 for linear, 2 for quadratic.
 
+use super::fastest_ms;
 use super::machine::banner;
+use super::render::b15_layers;
 use anyhow::Context;
 use blockworld::camera::CornerView;
-use blockworld::geom::DVec3;
 use blockworld::physics::{settle, SettleParams};
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Backend, RenderOptions, Renderer};
-use blockworld::scene::{Block, Reconstruction, Scene};
+use blockworld::scene::{Reconstruction, Scene};
 use blockworld::score::score_reconstruction;
-use std::time::Instant;
 
 /// Options of `blockworld bench scale`.
 #[derive(Debug, clap::Args)]
@@ -26,29 +26,10 @@ pub struct Args {
     pub settle_max: usize,
 }
 
-/// `n` Baustein 15 in a cube-like stack: layers of k x k touching cubes, k the cube root of
-/// `n` rounded up, filled layer by layer (so the stack is stable and every view has seams).
+/// `n` Baustein 15 in a cube-like stack: layers of k x k, k the cube root of `n` rounded up.
 pub fn grid_stack(n: usize) -> Scene {
     let k = (1..).find(|k| k * k * k >= n).unwrap_or(1);
-    let blocks = (0..n)
-        .map(|i| {
-            let (layer, cell) = (i / (k * k), i % (k * k));
-            let centre = DVec3::new(
-                (cell % k) as f64 * 15.0,
-                layer as f64 * 15.0 + 7.5,
-                (cell / k) as f64 * 15.0,
-            );
-            Block::new("b15", centre, 0.0)
-        })
-        .collect();
-    Scene::new(format!("grid_{n}"), blocks)
-}
-
-/// Milliseconds of one run of `f`, with its result.
-fn timed<T>(f: impl FnOnce() -> T) -> (f64, T) {
-    let t = Instant::now();
-    let out = f();
-    (t.elapsed().as_secs_f64() * 1e3, out)
+    b15_layers(n, k, format!("grid_{n}"))
 }
 
 /// One row: ms per stage (`None` = skipped).
@@ -59,21 +40,22 @@ struct Row {
 
 fn measure(renderer: &Renderer, n: usize, args: &Args) -> anyhow::Result<Row> {
     let scene = grid_stack(n);
-    let (validate, ok) = timed(|| scene.validate(&scene.name));
+    let (validate, ok) = fastest_ms(1, || scene.validate(&scene.name));
     ok.context("the grid stack is valid")?;
     let settle_ms = if n <= args.settle_max {
-        let (ms, settled) = timed(|| settle(&scene, &SettleParams::default()));
+        let (ms, settled) = fastest_ms(1, || settle(&scene, &SettleParams::default()));
         settled.context("settling the grid stack")?;
         Some(ms)
     } else {
         None
     };
     let opts = RenderOptions::default();
-    let (pixels, rendered) = timed(|| renderer.render_pixels(&scene, CornerView::Ne, &opts));
+    let (pixels, rendered) =
+        fastest_ms(1, || renderer.render_pixels(&scene, CornerView::Ne, &opts));
     let rendered = rendered.context("rendering the grid stack")?;
-    let (drawing, _) = timed(|| visible_line_drawing(&scene, &rendered.camera));
+    let (drawing, _) = fastest_ms(1, || visible_line_drawing(&scene, &rendered.camera));
     let recon = Reconstruction::ok(scene.name.clone(), scene.blocks.clone());
-    let (score, s) = timed(|| score_reconstruction(&scene, &recon));
+    let (score, s) = fastest_ms(1, || score_reconstruction(&scene, &recon));
     s.context("scoring the grid stack against itself")?;
     Ok(Row {
         blocks: n,

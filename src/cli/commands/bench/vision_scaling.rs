@@ -5,13 +5,13 @@
 //! stays flat as the side doubles. A noise picture of the same size is refused by the edge cap,
 //! and the time to refuse it is printed beside.
 
+use super::fastest_ms;
 use super::machine::banner;
 use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::vision::{
     detect_line_drawing, VisionError, VisionOptions, MAX_EDGE_PX_PER_SIDE_PX,
 };
 use image::GrayImage;
-use std::time::Instant;
 
 /// The gray levels of the three kinds of cell (the shades of a cube's three visible faces).
 const SHADES: [u8; 3] = [60, 130, 200];
@@ -52,19 +52,6 @@ fn square_camera(side_px: u32) -> Camera {
     Camera::frame(&[], CornerView::Ne, &opts)
 }
 
-/// The fastest of `repeat` runs of `f`, in ms, with its last result.
-fn fastest<T>(repeat: u32, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut out = None;
-    for _ in 0..repeat.max(1) {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64() * 1e3);
-        out = Some(r);
-    }
-    (best, out.expect("at least one run"))
-}
-
 /// Cells across the tiling at every size: the densest tiling the edge cap accepts at 512 px
 /// (its edge pixels grow with the side, as the cap does, so it stays under the cap at every
 /// size).
@@ -83,12 +70,16 @@ pub fn run(max_side_px: u32, repeat: u32) -> anyhow::Result<()> {
     while side <= max_side_px {
         let camera = square_camera(side);
         let picture = tiling(side, CELLS);
-        let (ms, det) = fastest(repeat, || detect_line_drawing(&picture, &camera, &opts));
+        let (ms, det) = fastest_ms(repeat as usize, || {
+            detect_line_drawing(&picture, &camera, &opts)
+        });
         let det = det?;
         let edge_px = det.edges.as_raw().iter().filter(|v| **v != 0).count();
         let cap_px = MAX_EDGE_PX_PER_SIDE_PX * 2 * u64::from(side);
         let hostile = noise(side);
-        let (noise_ms, refused) = fastest(repeat, || detect_line_drawing(&hostile, &camera, &opts));
+        let (noise_ms, refused) = fastest_ms(repeat as usize, || {
+            detect_line_drawing(&hostile, &camera, &opts)
+        });
         let refused = matches!(refused, Err(VisionError::TooManyEdges { .. }));
         let mpx = f64::from(side) * f64::from(side) / 1e6;
         outln!(
