@@ -201,9 +201,7 @@ impl SceneGeometry {
     pub fn first_hit(&self, q: DVec2) -> Option<(usize, DVec3)> {
         let (o, d) = self.proj.ray(q);
         let mut best: Option<(usize, DVec3, f64)> = None;
-        let mut near = Vec::new();
-        self.grid.candidates(q, q, &mut near);
-        for fi in near {
+        for &fi in self.grid.at(q) {
             let f = &self.faces[fi];
             if !f.contains_px(q, 0.0) {
                 continue;
@@ -302,6 +300,14 @@ impl FaceGrid {
         )
     }
 
+    /// The faces whose boxes may hold the point `q`, ascending: the one cell holding `q` (a
+    /// face is listed in every cell its box, grown by the slack, touches), without a copy.
+    pub fn at(&self, q: DVec2) -> &[usize] {
+        // `cell_range` grows its box by the slack; offset so its first cell is the one of `q`.
+        let (c, r, _, _) = self.cell_range(q + GRID_SLACK_PX, q + GRID_SLACK_PX);
+        &self.cells[r * self.cols + c]
+    }
+
     /// The faces that may meet the box `lo`..`hi`, ascending and without repeats, into `out`.
     pub fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<usize>) {
         out.clear();
@@ -380,5 +386,15 @@ mod tests {
             }
         }
         assert!(checked > 1000, "the boxes meet many faces: {checked}");
+        for i in 0..200 {
+            let q = DVec2::new(i as f64 * 2.6, (i * 7 % 200) as f64 * 2.4);
+            let at = geo.grid.at(q);
+            assert!(at.windows(2).all(|w| w[0] < w[1]));
+            for (f, face) in geo.faces.iter().enumerate() {
+                if face.front && face.contains_px(q, 0.0) {
+                    assert!(at.contains(&f), "face {f} holds {q}");
+                }
+            }
+        }
     }
 }
