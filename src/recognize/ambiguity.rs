@@ -239,15 +239,7 @@ mod tests {
     use crate::recognize::{CameraOptions, CornerView};
 
     fn views_of(blocks: &[Block]) -> Vec<ObservedView> {
-        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
-        CornerView::ALL
-            .iter()
-            .map(|&v| {
-                let camera = Camera::frame(&pts, v, &CameraOptions::default());
-                let drawing = draw_hypothesis(blocks, &camera);
-                ObservedView { drawing, camera }
-            })
-            .collect()
+        crate::recognize::views_of(blocks, &CornerView::ALL)
     }
 
     /// The 3 x 3 layer of b15 with a row of three on top (`bench render`'s 12-block stack).

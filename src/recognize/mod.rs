@@ -446,22 +446,25 @@ pub fn recognize(
     })
 }
 
+/// The exact views of `blocks` from the corner views `which`, framed as `render` frames them:
+/// the observed input of the recognizer's unit tests.
+#[cfg(test)]
+pub(crate) fn views_of(blocks: &[Block], which: &[CornerView]) -> Vec<ObservedView> {
+    let pts: Vec<crate::geom::DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+    which
+        .iter()
+        .map(|&v| {
+            let camera = Camera::frame(&pts, v, &CameraOptions::default());
+            let drawing = draw_hypothesis(blocks, &camera);
+            ObservedView { drawing, camera }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geom::DVec3;
-
-    fn views_of(blocks: &[Block], which: &[CornerView]) -> Vec<ObservedView> {
-        let pts: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
-        which
-            .iter()
-            .map(|&v| {
-                let camera = Camera::frame(&pts, v, &CameraOptions::default());
-                let drawing = draw_hypothesis(blocks, &camera);
-                ObservedView { drawing, camera }
-            })
-            .collect()
-    }
 
     #[test]
     fn a_two_layer_stack_is_recognized_from_two_opposite_views() {
