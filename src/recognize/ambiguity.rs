@@ -236,7 +236,7 @@ pub(super) fn alternative_given_drawings(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recognize::{CameraOptions, CornerView};
+    use crate::recognize::CornerView;
 
     fn views_of(blocks: &[Block]) -> Vec<ObservedView> {
         crate::recognize::views_of(blocks, &CornerView::ALL)
