@@ -283,6 +283,10 @@ fn propose(
             };
             ev.parallelograms += 1;
             ev.closed_parallelograms += usize::from(p.closed.is_some());
+            if fit_only && p.closed.is_none() {
+                // Only a closed parallelogram fits a block exactly (`Proposal::closed_fit`).
+                continue;
+            }
             let proposals =
                 catalog_proposals(&p, &view.drawing, &view.camera, levels, &opts.matching);
             out.extend(proposals.into_iter().filter(|c| c.closed_fit || !fit_only));

@@ -50,9 +50,137 @@ pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + ab * t)
 }
 
-/// `true` when line `[a, b]` of `from` lies along some line of `to` (its ends and midpoint
-/// within `tol_px` of one parallel line of `to`, or of a chain of them).
-fn line_explained(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol_px: f64) -> bool {
+/// One line of a drawing with what the comparison needs of it, computed once.
+struct IndexedLine {
+    c: DVec2,
+    d: DVec2,
+    e: DVec2,
+    e_len: f64,
+    lo: DVec2,
+    hi: DVec2,
+}
+
+/// The lines of a drawing bucketed by a uniform grid over their boxes grown by the
+/// tolerance, so a sample point meets only the lines whose grown box holds it (step 6's check
+/// runs once per view and hypothesis; a linear scan of every line per sample dominated it).
+/// The cells are stored flat: cell `k` holds `members[starts[k]..starts[k + 1]]`.
+struct LineIndex {
+    lines: Vec<IndexedLine>,
+    origin: DVec2,
+    cols: usize,
+    rows: usize,
+    starts: Vec<u32>,
+    members: Vec<u32>,
+}
+
+/// Grid cell side of [`LineIndex`], px (about a block's side in a 512 x 480 corner view).
+const LINE_CELL_PX: f64 = 32.0;
+/// Most cells along one side of a [`LineIndex`].
+const MAX_LINE_CELLS: usize = 64;
+
+impl LineIndex {
+    fn new(to: &LineDrawing, tol_px: f64) -> LineIndex {
+        let lines: Vec<IndexedLine> = to
+            .lines
+            .iter()
+            .map(|&[i, j]| {
+                let (c, d) = (to.points[i], to.points[j]);
+                let e = d - c;
+                IndexedLine {
+                    c,
+                    d,
+                    e,
+                    e_len: e.length(),
+                    lo: DVec2::new(c.x.min(d.x), c.y.min(d.y)),
+                    hi: DVec2::new(c.x.max(d.x), c.y.max(d.y)),
+                }
+            })
+            .collect();
+        let grown = |l: &IndexedLine| (l.lo - DVec2::splat(tol_px), l.hi + DVec2::splat(tol_px));
+        let usable = |l: &IndexedLine| l.e_len > 0.0 && l.lo.is_finite() && l.hi.is_finite();
+        let bounds = crate::geom::bounds2(lines.iter().filter(|l| usable(l)).flat_map(|l| {
+            let (lo, hi) = grown(l);
+            [lo, hi]
+        }));
+        let (origin, top) = bounds.unwrap_or((DVec2::ZERO, DVec2::ZERO));
+        let side = |extent: f64| ((extent / LINE_CELL_PX).floor() as usize + 1).min(MAX_LINE_CELLS);
+        let mut index = LineIndex {
+            lines: Vec::new(),
+            origin,
+            cols: side(top.x - origin.x),
+            rows: side(top.y - origin.y),
+            starts: Vec::new(),
+            members: Vec::new(),
+        };
+        let spans: Vec<(u32, [usize; 4])> = (0..lines.len())
+            .filter(|&k| usable(&lines[k]))
+            .map(|k| {
+                let (lo, hi) = grown(&lines[k]);
+                let ((c0, r0), (c1, r1)) = (index.cell(lo), index.cell(hi));
+                (k as u32, [c0, r0, c1, r1])
+            })
+            .collect();
+        index.fill(&spans);
+        index.lines = lines;
+        index
+    }
+
+    /// Stores every line of `spans` (index, cell range) in each cell of its range.
+    fn fill(&mut self, spans: &[(u32, [usize; 4])]) {
+        let cells = self.cols * self.rows;
+        let mut counts = vec![0u32; cells + 1];
+        let each = |[c0, r0, c1, r1]: [usize; 4]| {
+            (r0..=r1).flat_map(move |r| (c0..=c1).map(move |c| (r, c)))
+        };
+        for &(_, range) in spans {
+            for (r, c) in each(range) {
+                counts[r * self.cols + c + 1] += 1;
+            }
+        }
+        for k in 0..cells {
+            counts[k + 1] += counts[k];
+        }
+        let mut next = counts.clone();
+        self.members = vec![0; counts[cells] as usize];
+        for &(line, range) in spans {
+            for (r, c) in each(range) {
+                let slot = &mut next[r * self.cols + c];
+                self.members[*slot as usize] = line;
+                *slot += 1;
+            }
+        }
+        self.starts = counts;
+    }
+
+    /// The (column, row) of `p`, clamped to the grid; monotone in `p`, so a point inside a
+    /// grown box falls in one of the box's cells.
+    fn cell(&self, p: DVec2) -> (usize, usize) {
+        let k = |v: f64, o: f64, n: usize| {
+            let x = ((v - o) / LINE_CELL_PX).floor();
+            if x.is_nan() || x < 0.0 {
+                0
+            } else {
+                (x as usize).min(n - 1)
+            }
+        };
+        (
+            k(p.x, self.origin.x, self.cols),
+            k(p.y, self.origin.y, self.rows),
+        )
+    }
+
+    /// The lines whose grown box may hold `p`.
+    fn near(&self, p: DVec2) -> &[u32] {
+        let (c, r) = self.cell(p);
+        let k = r * self.cols + c;
+        &self.members[self.starts[k] as usize..self.starts[k + 1] as usize]
+    }
+}
+
+/// `true` when line `[a, b]` of `from` lies along some line of `to` (indexed in `index`): its
+/// ends, midpoint and quarter points within `tol_px` of a parallel line of `to` each (one line,
+/// or a chain of them).
+fn line_explained(from: &LineDrawing, line: [usize; 2], index: &LineIndex, tol_px: f64) -> bool {
     let (a, b) = (from.points[line[0]], from.points[line[1]]);
     let dir = b - a;
     // Parallel within 3 degrees, or within what the point tolerance allows on a short line:
@@ -65,18 +193,15 @@ fn line_explained(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol_px
     }
     let samples = [a, (a + b) / 2.0, b, a.lerp(b, 0.25), a.lerp(b, 0.75)];
     samples.iter().all(|&s| {
-        to.lines.iter().any(|&[i, j]| {
-            let (c, d) = (to.points[i], to.points[j]);
-            let near_box = s.x >= c.x.min(d.x) - tol_px
-                && s.x <= c.x.max(d.x) + tol_px
-                && s.y >= c.y.min(d.y) - tol_px
-                && s.y <= c.y.max(d.y) + tol_px;
-            let e = d - c;
-            let e_len = e.length();
+        index.near(s).iter().any(|&k| {
+            let l = &index.lines[k as usize];
+            let near_box = s.x >= l.lo.x - tol_px
+                && s.x <= l.hi.x + tol_px
+                && s.y >= l.lo.y - tol_px
+                && s.y <= l.hi.y + tol_px;
             near_box
-                && e_len > 0.0
-                && e.perp_dot(dir).abs() <= sin_max * e_len * dir_len
-                && distance_to_segment_px(s, c, d) <= tol_px
+                && l.e.perp_dot(dir).abs() <= sin_max * l.e_len * dir_len
+                && distance_to_segment_px(s, l.c, l.d) <= tol_px
         })
     })
 }
@@ -90,9 +215,10 @@ pub fn compare_drawings(drawn: &LineDrawing, observed: &LineDrawing, tol_px: f64
             .count()
     };
     let count_lines = |from: &LineDrawing, to: &LineDrawing| {
+        let index = LineIndex::new(to, tol_px);
         from.lines
             .iter()
-            .filter(|l| !line_explained(from, **l, to, tol_px))
+            .filter(|l| !line_explained(from, **l, &index, tol_px))
             .count()
     };
     ViewCheck {
@@ -110,11 +236,12 @@ pub fn blocks_drawn_in_excess(
     observed: &LineDrawing,
     tol_px: f64,
 ) -> Vec<usize> {
+    let index = LineIndex::new(observed, tol_px);
     let mut out: Vec<usize> = drawn
         .lines
         .iter()
         .zip(&drawn.edges)
-        .filter(|(l, _)| !line_explained(drawn, **l, observed, tol_px))
+        .filter(|(l, _)| !line_explained(drawn, **l, &index, tol_px))
         .map(|(_, e)| e.block)
         .collect();
     out.sort_unstable();
@@ -140,6 +267,78 @@ mod tests {
     use super::*;
     use crate::geom::DVec3;
     use crate::recognize::{CameraOptions, CornerView};
+
+    /// The definition of [`line_explained`] without the index: every line of `to` tried.
+    fn explained_by_scan(from: &LineDrawing, line: [usize; 2], to: &LineDrawing, tol: f64) -> bool {
+        let (a, b) = (from.points[line[0]], from.points[line[1]]);
+        let dir = b - a;
+        let x = 2.0 * tol / dir.length().max(1e-9);
+        let sin_max = (x / (1.0 + x * x).sqrt()).max(3f64.to_radians().sin());
+        if dir.length() == 0.0 {
+            return false;
+        }
+        [a, (a + b) / 2.0, b, a.lerp(b, 0.25), a.lerp(b, 0.75)]
+            .iter()
+            .all(|&s| {
+                to.lines.iter().any(|&[i, j]| {
+                    let (c, d) = (to.points[i], to.points[j]);
+                    let e = d - c;
+                    e.length() > 0.0
+                        && e.perp_dot(dir).abs() <= sin_max * e.length() * dir.length()
+                        && distance_to_segment_px(s, c, d) <= tol
+                })
+            })
+    }
+
+    #[test]
+    fn the_line_index_finds_exactly_the_lines_a_full_scan_finds() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let random_drawing = |n: usize, rng: &mut rand_chacha::ChaCha8Rng| {
+            let mut d = LineDrawing::default();
+            for k in 0..n {
+                let a = DVec2::new(rng.random_range(0.0..300.0), rng.random_range(0.0..300.0));
+                // Mostly the three picture directions of a corner view, some short lines.
+                let ang = [30f64, 90.0, 150.0][k % 3].to_radians() + rng.random_range(-0.06..0.06);
+                let len = if k % 7 == 0 {
+                    rng.random_range(0.0..4.0)
+                } else {
+                    rng.random_range(5.0..200.0)
+                };
+                let b = a + DVec2::new(ang.cos(), ang.sin()) * len;
+                d.points.extend([a, b]);
+                d.lines.push([2 * k, 2 * k + 1]);
+            }
+            d
+        };
+        let mut explained = 0;
+        for round in 0..40 {
+            let to = random_drawing(60, &mut rng);
+            // Lines of `to` itself, nudged, and fresh random ones.
+            let mut from = to.clone();
+            for p in from.points.iter_mut() {
+                *p += DVec2::new(rng.random_range(-2.5..2.5), rng.random_range(-2.5..2.5));
+            }
+            let fresh = random_drawing(60, &mut rng);
+            for d in [&from, &fresh, &to] {
+                let tol = [0.5, 2.0, 3.0][round % 3];
+                let index = LineIndex::new(&to, tol);
+                for &l in &d.lines {
+                    let want = explained_by_scan(d, l, &to, tol);
+                    assert_eq!(
+                        line_explained(d, l, &index, tol),
+                        want,
+                        "round {round} line {l:?}"
+                    );
+                    explained += usize::from(want);
+                }
+            }
+        }
+        assert!(
+            explained > 2400,
+            "the comparison exercises both answers: {explained}"
+        );
+    }
 
     fn two_blocks() -> Vec<Block> {
         vec![

@@ -30,6 +30,7 @@ pub(super) fn visible_intervals(
     let mut out = Vec::new();
     let mut hidden: Vec<[f64; 2]> = Vec::new();
     let mut near = Vec::new();
+    let mut seen = vec![false; geo.faces.len()];
     for (ei, edge) in geo.edges.iter().enumerate() {
         progress(ei as u64 + 1);
         if !edge.may_show(&geo.faces) {
@@ -37,7 +38,7 @@ pub(super) fn visible_intervals(
         }
         hidden.clear();
         let (lo, hi) = (edge.pa.min(edge.pb), edge.pa.max(edge.pb));
-        geo.grid.candidates(lo, hi, &mut near);
+        geo.grid.candidates_unordered(lo, hi, &mut seen, &mut near);
         for face in near.iter().map(|&f| &geo.faces[f]) {
             if face.block == edge.block
                 || face.lo.x > hi.x + OVERLAP_EPS_PX
