@@ -8,6 +8,9 @@
 //! observed is near (a split block's edge visible across the crack), or lacks every point near
 //! an observed one (a crack between two blocks, visible in the hypothesis's drawing, that a
 //! merged block would not have). Such proofs only skip redraws; they never accept an answer.
+//! The one proof in the other direction, that a split alternative draws exactly what the
+//! hypothesis draws ([`split_crack_enclosed`]: the crack's whole rim is wrapped by touching
+//! blocks, so no ray reaches it), can only make the recognizer decline, never answer.
 
 use super::catalog_match::bounds_mm;
 use super::compare::{catalog_merge, catalog_splits};
@@ -97,6 +100,70 @@ fn split_refuted(
     visible_crossings(drawn, blocks, i, k, c).iter().any(|&q| {
         let p = camera.picture_from_world(q).truncate();
         !near_any(p, &observed.drawing.points, tol_px + 0.05)
+    })
+}
+
+/// How far outside the split block the enclosure proof asks for other blocks, mm (above the
+/// contact and seam tolerances, far below any catalog size).
+const ENCLOSE_PROBE_MM: f64 = 0.5;
+
+/// The parameter interval along world axis `run` where the line through `q` parallel to
+/// `run` lies inside box `(lo, hi)` by more than [`ON_PLANE_MM`] across the other two axes,
+/// if it does.
+fn run_inside(lo: DVec3, hi: DVec3, q: DVec3, run: usize) -> Option<[f64; 2]> {
+    let across = (0..3)
+        .filter(|&a| a != run)
+        .all(|a| q[a] > lo[a] + ON_PLANE_MM && q[a] < hi[a] - ON_PLANE_MM);
+    across.then_some([lo[run], hi[run]])
+}
+
+/// `true` when `intervals` cover `[from, to]` without a gap wider than [`ON_PLANE_MM`].
+fn covers(mut intervals: Vec<[f64; 2]>, from: f64, to: f64) -> bool {
+    intervals.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut reached = from;
+    for [a, b] in intervals {
+        if a > reached + ON_PLANE_MM {
+            break;
+        }
+        reached = reached.max(b);
+    }
+    reached >= to
+}
+
+/// `true` when splitting block `i` into `halves` provably draws the hypothesis's own drawing
+/// in every view: just outside each face the crack plane cuts, along the whole face and a
+/// probe's width beyond its edges, other blocks touching that face fill the space a probe's
+/// width above and below the crack. The crack's rim then lies inside the union of blocks, no
+/// ray from any eye reaches it, and the halves' edges are block `i`'s edges cut where they are
+/// hidden (Chapter VII: a crack hidden in every view cannot be told from no crack).
+fn split_crack_enclosed(blocks: &[Block], i: usize, halves: &[Block; 2]) -> bool {
+    let (k, c) = crack_plane(halves);
+    let (lo, hi) = bounds_mm(&blocks[i]);
+    let others: Vec<(DVec3, DVec3)> = (0..blocks.len())
+        .filter(|&j| j != i)
+        .map(|j| bounds_mm(&blocks[j]))
+        .collect();
+    let p = ENCLOSE_PROBE_MM;
+    let axes: Vec<usize> = (0..3).filter(|&a| a != k).collect();
+    axes.iter().all(|&fixed| {
+        let run = 3 - k - fixed;
+        [(lo[fixed], -1.0), (hi[fixed], 1.0)]
+            .iter()
+            .all(|&(face, out)| {
+                let mut q = DVec3::ZERO;
+                q[k] = c;
+                q[fixed] = face + out * p;
+                let touching = |b: &&(DVec3, DVec3)| {
+                    let near = if out > 0.0 { b.0[fixed] } else { b.1[fixed] };
+                    (near - face).abs() <= ON_PLANE_MM && b.0[k] < c - p && b.1[k] > c + p
+                };
+                let spans: Vec<[f64; 2]> = others
+                    .iter()
+                    .filter(touching)
+                    .filter_map(|b| run_inside(b.0, b.1, q, run))
+                    .collect();
+                covers(spans, lo[run] - p, hi[run] + p)
+            })
     })
 }
 
@@ -202,7 +269,7 @@ pub(super) fn alternative_given_drawings(
                 .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, tol_px));
             let mut alt = blocks.to_vec();
             alt.splice(i..=i, halves);
-            if !refuted && explains(&alt) {
+            if !refuted && (split_crack_enclosed(blocks, i, &halves) || explains(&alt)) {
                 return Some(format!(
                     "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
                     b.block_type.id, halves[0].block_type.id
@@ -320,6 +387,86 @@ mod tests {
             let refuted = alts.iter().filter(|a| a.1).count();
             assert!(4 * refuted >= 3 * alts.len(), "{alts:?}");
         }
+    }
+
+    /// Columns of one to three b15 or b7_5 on a 5 x 5 grid, each column's make-up drawn from
+    /// `seed` (every block rests on the floor or the block below).
+    fn columns(seed: u64) -> Vec<Block> {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut blocks = Vec::new();
+        for cell in 0..25 {
+            let (x, z) = ((cell % 5) as f64 * 15.0, (cell / 5) as f64 * 15.0);
+            let mut y = 0.0;
+            for _ in 0..rng.random_range(1..4) {
+                let (id, h) = if rng.random_bool(0.15) {
+                    ("b7_5", 7.5)
+                } else {
+                    ("b15", 15.0)
+                };
+                blocks.push(Block::new(id, DVec3::new(x, y + h / 2.0, z), 0.0));
+                y += h;
+            }
+        }
+        blocks
+    }
+
+    #[test]
+    fn an_enclosed_crack_is_one_the_exact_redraw_cannot_see() {
+        let (mut enclosed, mut open) = (0, 0);
+        for seed in 0..24 {
+            let blocks = columns(seed);
+            let views = views_of(&blocks);
+            for (i, b) in blocks.iter().enumerate() {
+                for halves in catalog_splits(b) {
+                    if !split_crack_enclosed(&blocks, i, &halves) {
+                        open += 1;
+                        continue;
+                    }
+                    enclosed += 1;
+                    let mut alt = blocks.to_vec();
+                    alt.splice(i..=i, halves);
+                    for v in &views {
+                        let check =
+                            compare_drawings(&draw_hypothesis(&alt, &v.camera), &v.drawing, 2.0);
+                        assert!(check.is_explained(), "seed {seed} block {i}: {check:?}");
+                    }
+                }
+            }
+        }
+        assert!(
+            enclosed >= 20 && open >= 100,
+            "both cases met: {enclosed} enclosed, {open} open"
+        );
+    }
+
+    #[test]
+    fn a_crack_with_one_side_open_or_a_short_neighbour_is_not_enclosed() {
+        let cube = |x: f64, y: f64, z: f64| Block::new("b15", DVec3::new(x, y, z), 0.0);
+        let ring: Vec<Block> = (0..9)
+            .map(|k| cube((k % 3) as f64 * 15.0, 7.5, (k / 3) as f64 * 15.0))
+            .collect();
+        let middle = 4;
+        let split = catalog_splits(&ring[middle])
+            .into_iter()
+            .find(|h| crack_plane(h).0 == 1)
+            .unwrap();
+        assert!(
+            split_crack_enclosed(&ring, middle, &split),
+            "all eight around it"
+        );
+        let mut corner_gone = ring.clone();
+        corner_gone.remove(8);
+        assert!(
+            !split_crack_enclosed(&corner_gone, middle, &split),
+            "a diagonal neighbour missing"
+        );
+        let mut short = ring.clone();
+        short[5] = Block::new("b7_5", DVec3::new(30.0, 3.75, 15.0), 0.0);
+        assert!(
+            !split_crack_enclosed(&short, middle, &split),
+            "a neighbour ending at the crack"
+        );
     }
 
     #[test]

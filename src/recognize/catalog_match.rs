@@ -245,6 +245,20 @@ pub fn catalog_proposals(
     levels_mm: &[f64],
     tol: &MatchTolerances,
 ) -> Vec<Proposal> {
+    catalog_proposals_where(p, drawing, camera, levels_mm, tol, &|_| true)
+}
+
+/// [`catalog_proposals`] at the levels where `corner_ok` accepts the measured top corner
+/// (world mm): the direct path asks only where the corner is seen inside every view's
+/// silhouette, as every corner of the blocks it takes must be.
+pub fn catalog_proposals_where(
+    p: &Parallelogram,
+    drawing: &LineDrawing,
+    camera: &Camera,
+    levels_mm: &[f64],
+    tol: &MatchTolerances,
+    corner_ok: &dyn Fn(DVec3) -> bool,
+) -> Vec<Proposal> {
     let mut out = Vec::new();
     let proj = Projector::new(camera);
     let rays = RayCache::new(&proj, camera.is_orthographic());
@@ -262,6 +276,9 @@ pub fn catalog_proposals(
         let Some(m) = measure_on(p, drawing, camera, &rays, y_top, tol) else {
             continue;
         };
+        if !corner_ok(m.vertex_mm) {
+            continue;
+        }
         let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);
         let min_height = m.height_mm.unwrap_or(0.0);
         for &(t, yaw, (fx, fz), h) in &shapes {

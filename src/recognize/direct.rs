@@ -14,7 +14,7 @@ use super::catalog_match::blocks_overlap;
 use super::compare::PooledCandidate;
 use super::constraints::overhanging_blocks;
 use super::{ObservedView, SAME_PLACE_TOL_MM};
-use crate::geom::{convex_hull, inside_convex, DVec2};
+use crate::geom::{convex_hull, inside_convex, DVec2, DVec3};
 use crate::scene::Block;
 use std::cmp::Reverse;
 
@@ -27,17 +27,36 @@ pub fn well_supported(pool: &[PooledCandidate], view_count: usize) -> Vec<usize>
         .collect()
 }
 
+/// The convex hull of each view's observed points, in view order: a bound of the sample's
+/// silhouette in that picture.
+pub(super) fn silhouettes(views: &[ObservedView]) -> Vec<Vec<DVec2>> {
+    views
+        .iter()
+        .map(|v| convex_hull(&v.drawing.points))
+        .collect()
+}
+
+/// `true` when the world point `q_mm` projects inside every view's silhouette hull (within
+/// `tol_px`): a point of the sample is seen inside the sample's outline in every picture.
+pub(super) fn inside_every_silhouette(
+    q_mm: DVec3,
+    views: &[ObservedView],
+    hulls: &[Vec<DVec2>],
+    tol_px: f64,
+) -> bool {
+    views.iter().zip(hulls).all(|(v, hull)| {
+        let p = v.camera.picture_from_world(q_mm).truncate();
+        inside_convex(hull, p, tol_px)
+    })
+}
+
 /// `true` when every corner of `b` projects inside the convex hull of the observed points of
 /// every view (within `tol_px`): a block of the sample lies inside the sample's silhouette in
 /// every picture, so a candidate reaching outside any of them is not one.
 fn inside_every_view(b: &Block, views: &[ObservedView], hulls: &[Vec<DVec2>], tol_px: f64) -> bool {
-    let corners = b.world_vertices();
-    views.iter().zip(hulls).all(|(v, hull)| {
-        corners.iter().all(|&c| {
-            let p = v.camera.picture_from_world(c).truncate();
-            inside_convex(hull, p, tol_px)
-        })
-    })
+    b.world_vertices()
+        .into_iter()
+        .all(|c| inside_every_silhouette(c, views, hulls, tol_px))
 }
 
 /// `true` when `b` stands on the floor or on `chosen` without overhanging (Chapter VII: every
@@ -61,10 +80,7 @@ pub fn direct_hypothesis(
     views: &[ObservedView],
     tol_px: f64,
 ) -> Vec<Block> {
-    let hulls: Vec<Vec<DVec2>> = views
-        .iter()
-        .map(|v| convex_hull(&v.drawing.points))
-        .collect();
+    let hulls = silhouettes(views);
     let candidates: Vec<usize> = well_supported(pool, views.len())
         .into_iter()
         .filter(|&i| inside_every_view(&pool[i].block, views, &hulls, tol_px))
@@ -102,7 +118,6 @@ fn take_lowest_first(pool: &[PooledCandidate], mut indices: Vec<usize>) -> Vec<B
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::DVec3;
 
     fn candidate(id: &'static str, y: f64, views: usize, fits: usize) -> PooledCandidate {
         PooledCandidate {

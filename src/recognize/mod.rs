@@ -37,9 +37,9 @@ pub(crate) use crate::camera::{CameraOptions, CornerView, Projection};
 
 pub use ambiguity::equally_good_alternative;
 pub use catalog_match::{
-    blocks_overlap, bounds_mm, catalog_candidates, catalog_proposals, classify_layers,
-    distinct_yaws_deg, level_heights_mm, make_touching_flush, measure_parallelogram_mm,
-    touching_pairs, Layer, MatchTolerances, ParallelogramMm, Proposal,
+    blocks_overlap, bounds_mm, catalog_candidates, catalog_proposals, catalog_proposals_where,
+    classify_layers, distinct_yaws_deg, level_heights_mm, make_touching_flush,
+    measure_parallelogram_mm, touching_pairs, Layer, MatchTolerances, ParallelogramMm, Proposal,
 };
 pub use compare::{
     catalog_merge, catalog_splits, choose_blocks, pool_candidates, pool_proposals, yaw_deg,
@@ -61,6 +61,7 @@ use crate::drawing::LineDrawing;
 use crate::scene::{Block, ReconStatus, ViewEvidence};
 use ambiguity::alternative_given_drawings;
 use compare::{choose_hypothesis, greedy_and_split_from, Hypothesis};
+use direct::{inside_every_silhouette, silhouettes};
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -258,13 +259,14 @@ fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<D
     None
 }
 
-/// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly
-/// when `fit_only`) and evidence counts.
+/// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly,
+/// with their top corner where `corner_ok` accepts it, when `fit_only`) and evidence counts.
 fn propose(
     view: &ObservedView,
     levels: &[f64],
     opts: &RecognizeOptions,
     fit_only: bool,
+    corner_ok: &dyn Fn(crate::geom::DVec3) -> bool,
 ) -> (Vec<Proposal>, ViewEvidence) {
     let selected = select_vertices(&view.drawing);
     let search = ParallelogramSearch::new(&view.drawing, opts.tol_px);
@@ -287,8 +289,9 @@ fn propose(
                 // Only a closed parallelogram fits a block exactly (`Proposal::closed_fit`).
                 continue;
             }
+            let (drawing, camera) = (&view.drawing, &view.camera);
             let proposals =
-                catalog_proposals(&p, &view.drawing, &view.camera, levels, &opts.matching);
+                catalog_proposals_where(&p, drawing, camera, levels, &opts.matching, corner_ok);
             out.extend(proposals.into_iter().filter(|c| c.closed_fit || !fit_only));
         }
     }
@@ -317,7 +320,9 @@ fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
 pub const SAME_PLACE_TOL_MM: f64 = 0.5;
 
 /// Steps 1-3 on every view and the pooling of step 4: the pooled candidates, with the views'
-/// evidence counts recorded in `evidence`.
+/// evidence counts recorded in `evidence`. With `fit_only` (the direct path), a level is read
+/// only where the measured top corner is seen inside every view's silhouette, as the direct
+/// path requires of every corner of the blocks it takes ([`direct_hypothesis`]).
 fn propose_and_pool(
     views: &[ObservedView],
     opts: &RecognizeOptions,
@@ -326,9 +331,16 @@ fn propose_and_pool(
 ) -> Vec<PooledCandidate> {
     let levels = level_heights_mm(opts.max_height_mm);
     evidence.views.clear();
+    let hulls = if fit_only {
+        silhouettes(views)
+    } else {
+        Vec::new()
+    };
+    let corner_ok =
+        |q: crate::geom::DVec3| !fit_only || inside_every_silhouette(q, views, &hulls, opts.tol_px);
     let mut per_view = Vec::new();
     for v in views {
-        let (proposals, ev) = propose(v, &levels, opts, fit_only);
+        let (proposals, ev) = propose(v, &levels, opts, fit_only, &corner_ok);
         per_view.push(proposals);
         evidence.views.push(ev);
     }
