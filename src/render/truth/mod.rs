@@ -39,6 +39,7 @@
 mod assemble;
 mod classify;
 mod geometry;
+mod round;
 mod visibility;
 
 use crate::camera::Camera;
