@@ -249,5 +249,21 @@ mod tests {
             DrawingError::BadUnclassified { line: 4, .. }
         ));
         assert!(matches!(bad("[1, 2]"), DrawingError::Format(_)));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 1]], "curved_lines": [1]}"#),
+            DrawingError::BadCurved { line: 1, .. }
+        ));
+    }
+
+    /// `curved_lines` reads back as written and is left out of a straight drawing's JSON
+    /// (README "The exact line drawing").
+    #[test]
+    fn curved_lines_round_trip_and_are_absent_when_empty() {
+        let text = r#"{"points": [[0, 0], [1, 1], [3, 1]], "lines": [[0, 1], [1, 2]], "curved_lines": [0, 1]}"#;
+        let d = LineDrawing::from_json(text).unwrap();
+        assert_eq!(d.curved_lines, [0, 1]);
+        assert_eq!(LineDrawing::from_json(&d.to_json()).unwrap(), d);
+        let square = LineDrawing::from_json(SQUARE).unwrap();
+        assert!(!square.to_json().contains("curved"));
     }
 }
