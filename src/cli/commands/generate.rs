@@ -69,7 +69,11 @@ pub fn parse_families(names: &[String]) -> anyhow::Result<Vec<Family>> {
         .iter()
         .map(|n| {
             Family::parse(n).with_context(|| {
-                let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+                let known: Vec<&str> = Family::ALL
+                    .iter()
+                    .chain(&Family::CHAPTER_VII)
+                    .map(|f| f.name())
+                    .collect();
                 format!(
                     "--family: unknown family {n:?}; known: {}",
                     known.join(", ")

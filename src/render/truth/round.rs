@@ -104,7 +104,6 @@ fn ring_vertex(theta: f64, n: usize) -> usize {
 }
 
 /// One edge of block `bi` between world points `a` and `b`.
-#[allow(clippy::too_many_arguments)]
 fn edge(
     bi: usize,
     vertices: [usize; 2],
