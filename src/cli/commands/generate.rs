@@ -31,7 +31,7 @@ pub struct Args {
     pub output: PathBuf,
     /// Families to cycle through (repeat or comma-separate); default all. One of: single, row,
     /// l_shape, two_layer, three_layer, tower, staircase, separated, random_stack,
-    /// upper_larger, yaw.
+    /// upper_larger, yaw; and, only when named, the Chapter VII parts: wedge, round.
     #[arg(long = "family", value_delimiter = ',')]
     pub families: Vec<String>,
     /// Worker threads (default: all cores). The dataset's bytes do not depend on it.
