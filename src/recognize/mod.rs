@@ -28,6 +28,7 @@ mod constraints;
 mod direct;
 mod parallelogram;
 mod select;
+mod trapezoid;
 mod verify;
 
 /// The camera types this stage and `csg` use (the one import of them, so the camera's move to
@@ -55,6 +56,7 @@ pub use parallelogram::{
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
+pub use trapezoid::{face_gradients, line_world_direction, sloped_faces, FaceGradient};
 pub use verify::{
     blocks_drawn_in_excess, check_hypothesis, compare_drawings, distance_to_segment_px,
     draw_hypothesis, ViewCheck,
@@ -121,6 +123,14 @@ pub enum Decline {
         /// The view's name.
         view: String,
         /// How many lines.
+        count: usize,
+    },
+    /// A sloped face: a trapezoidal block, told from the solid blocks by its gradient.
+    #[error("view {view}: {count} face planes have the gradient of a sloped face: a trapezoidal block, distinguished from solid blocks by the gradient constraints (Chapter VII, Figure 7.1); its reconstruction is not implemented")]
+    TrapezoidalBlock {
+        /// The view's name.
+        view: String,
+        /// How many sloped face planes (one per pair of lines at a junction).
         count: usize,
     },
     /// Lines within 2 degrees of horizontal (Chapter IV's six directions do not cover them).
@@ -253,7 +263,8 @@ fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
 }
 
 /// Chapter VII's constraints on the observed drawings, before any search: no curved edges
-/// (round parts), every line in a six-bit direction and along a block axis.
+/// (round parts), no sloped face (a trapezoidal block, Figure 7.1), every line in a six-bit
+/// direction and along a block axis.
 fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<Decline> {
     for v in views {
         let view = v.camera.view.name().to_string();
@@ -261,6 +272,11 @@ fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<D
         if !curved.is_empty() {
             let count = curved.len();
             return Some(Decline::RoundParts { view, count });
+        }
+        let sloped = sloped_faces(&v.drawing, &v.camera, opts.axis_tol_deg);
+        if !sloped.is_empty() {
+            let count = sloped.len();
+            return Some(Decline::TrapezoidalBlock { view, count });
         }
         if !v.drawing.unclassified_lines.is_empty() {
             let count = v.drawing.unclassified_lines.len();
