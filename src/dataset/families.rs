@@ -544,6 +544,64 @@ fn non_uniform_yaw(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
     }
 }
 
+/// A wedge facing +x (yaw 0, the one direction) on the floor or on a Baustein 30 of its
+/// footprint; a wedge on the floor may carry a b15 on its flat top; cubes may stand beside it on
+/// the floor, in front of its -x end or behind it along z. (A b15 on a wedge on a b30 is left
+/// out: measured, rapier's hull contact lets that three-high tower drift 0.7 mm.)
+fn wedge(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
+    let (cx, cz) = (
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+    );
+    let mut blocks = Vec::new();
+    let on_b30 = rng.random_bool(0.5);
+    let mut base = 0.0;
+    if on_b30 {
+        blocks.push(Block::new("b30", DVec3::new(cx, 7.5, cz), 0.0));
+        base = 15.0;
+    }
+    blocks.push(Block::new("w30", DVec3::new(cx, base + 7.5, cz), 0.0));
+    if !on_b30 && rng.random_bool(0.5) {
+        blocks.push(Block::new("b15", DVec3::new(cx - 7.5, 22.5, cz), 0.0));
+    }
+    if rng.random_bool(0.5) {
+        blocks.push(Block::new("b15", DVec3::new(cx - 22.5, 7.5, cz), 0.0));
+    }
+    if rng.random_bool(0.4) {
+        let id = pick(rng, &["b15", "b30"]);
+        blocks.push(Block::new(id, DVec3::new(cx, 7.5, cz - 15.0), 0.0));
+    }
+    Some(blocks)
+}
+
+/// One or two round parts (`c15`) on the floor, on a b15 or carrying one, with a cube or a
+/// b30 beside them on the floor.
+fn round(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
+    let (cx, cz) = (
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+    );
+    let mut blocks = Vec::new();
+    match rng.random_range(0..3) {
+        0 => blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0)),
+        1 => {
+            blocks.push(Block::new("b15", DVec3::new(cx, 7.5, cz), 0.0));
+            blocks.push(Block::new("c15", DVec3::new(cx, 22.5, cz), 0.0));
+        }
+        _ => {
+            blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0));
+            blocks.push(Block::new("b15", DVec3::new(cx, 22.5, cz), 0.0));
+        }
+    }
+    if rng.random_bool(0.6) {
+        let id = pick(rng, &["b15", "b30", "c15"]);
+        let size_x = crate::scene::block_type(id).map_or(15.0, |t| t.size_mm().x);
+        let x = cx + 7.5 + size_x / 2.0 + rng.random_range(0..=1) as f64 * GRID_MM;
+        blocks.push(Block::new(id, DVec3::new(x, 7.5, cz), 0.0));
+    }
+    Some(blocks)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -619,62 +677,4 @@ mod tests {
         }
         assert_eq!(Family::parse("pyramid"), None);
     }
-}
-
-/// A wedge facing +x (yaw 0, the one direction) on the floor or on a Baustein 30 of its
-/// footprint; a wedge on the floor may carry a b15 on its flat top; cubes may stand beside it on
-/// the floor, in front of its -x end or behind it along z. (A b15 on a wedge on a b30 is left
-/// out: measured, rapier's hull contact lets that three-high tower drift 0.7 mm.)
-fn wedge(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
-    let (cx, cz) = (
-        rng.random_range(-2..=2) as f64 * GRID_MM,
-        rng.random_range(-2..=2) as f64 * GRID_MM,
-    );
-    let mut blocks = Vec::new();
-    let on_b30 = rng.random_bool(0.5);
-    let mut base = 0.0;
-    if on_b30 {
-        blocks.push(Block::new("b30", DVec3::new(cx, 7.5, cz), 0.0));
-        base = 15.0;
-    }
-    blocks.push(Block::new("w30", DVec3::new(cx, base + 7.5, cz), 0.0));
-    if !on_b30 && rng.random_bool(0.5) {
-        blocks.push(Block::new("b15", DVec3::new(cx - 7.5, 22.5, cz), 0.0));
-    }
-    if rng.random_bool(0.5) {
-        blocks.push(Block::new("b15", DVec3::new(cx - 22.5, 7.5, cz), 0.0));
-    }
-    if rng.random_bool(0.4) {
-        let id = pick(rng, &["b15", "b30"]);
-        blocks.push(Block::new(id, DVec3::new(cx, 7.5, cz - 15.0), 0.0));
-    }
-    Some(blocks)
-}
-
-/// One or two round parts (`c15`) on the floor, on a b15 or carrying one, with a cube or a
-/// b30 beside them on the floor.
-fn round(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
-    let (cx, cz) = (
-        rng.random_range(-2..=2) as f64 * GRID_MM,
-        rng.random_range(-2..=2) as f64 * GRID_MM,
-    );
-    let mut blocks = Vec::new();
-    match rng.random_range(0..3) {
-        0 => blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0)),
-        1 => {
-            blocks.push(Block::new("b15", DVec3::new(cx, 7.5, cz), 0.0));
-            blocks.push(Block::new("c15", DVec3::new(cx, 22.5, cz), 0.0));
-        }
-        _ => {
-            blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0));
-            blocks.push(Block::new("b15", DVec3::new(cx, 22.5, cz), 0.0));
-        }
-    }
-    if rng.random_bool(0.6) {
-        let id = pick(rng, &["b15", "b30", "c15"]);
-        let size_x = crate::scene::block_type(id).map_or(15.0, |t| t.size_mm().x);
-        let x = cx + 7.5 + size_x / 2.0 + rng.random_range(0..=1) as f64 * GRID_MM;
-        blocks.push(Block::new(id, DVec3::new(x, 7.5, cz), 0.0));
-    }
-    Some(blocks)
 }
