@@ -248,42 +248,14 @@ fn check_round_part_rims(
 /// part moved 1 mm fails the same check.
 #[test]
 fn round_part_drawing_matches_a_ray_cast_of_the_exact_cylinder() {
-    let cube = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
-    let scenes = [
-        (
-            Scene::new(
-                "alone",
-                vec![Block::new("c15", DVec3::new(0.0, 7.5, 0.0), 0.0)],
-            ),
-            0,
-        ),
-        (
-            Scene::new(
-                "beside",
-                vec![cube, Block::new("c15", DVec3::new(15.0, 7.5, 15.0), 0.0)],
-            ),
-            1,
-        ),
-        (
-            Scene::new(
-                "on_cube",
-                vec![cube, Block::new("c15", DVec3::new(0.0, 22.5, 0.0), 0.0)],
-            ),
-            1,
-        ),
-    ];
-    let projections = [
-        Projection::Orthographic,
-        Projection::Perspective { fov_y_deg: 30.0 },
-    ];
-    for (scene, round) in &scenes {
+    for (scene, round) in &round_scenes() {
         scene.validate(&scene.name).unwrap();
         let pts: Vec<DVec3> = scene
             .blocks
             .iter()
             .flat_map(|b| b.world_vertices())
             .collect();
-        for projection in projections {
+        for projection in PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 ..CameraOptions::default()
@@ -292,11 +264,8 @@ fn round_part_drawing_matches_a_ray_cast_of_the_exact_cylinder() {
                 let cam = Camera::frame(&pts, view, &opts);
                 let d = visible_line_drawing(scene, &cam);
                 let what = format!("{} {view:?} {projection:?}", scene.name);
-                assert!(
-                    d.curved_lines.len() > 40,
-                    "{what}: {} curved",
-                    d.curved_lines.len()
-                );
+                let curved = d.curved_lines.len();
+                assert!(curved > 40, "{what}: {curved} curved");
                 let bad = check_round_part_rims(scene, *round, &cam, &d);
                 assert!(bad.is_empty(), "{what}: {bad:#?}");
                 let generators = generator_lines(scene, *round, &cam, &d);
@@ -304,13 +273,28 @@ fn round_part_drawing_matches_a_ray_cast_of_the_exact_cylinder() {
                 let mut moved = scene.clone();
                 moved.blocks[*round].center_mm.x += 1.0;
                 let wrong = visible_line_drawing(&moved, &cam);
-                assert!(
-                    !check_round_part_rims(scene, *round, &cam, &wrong).is_empty(),
-                    "{what}"
-                );
+                let caught = check_round_part_rims(scene, *round, &cam, &wrong);
+                assert!(!caught.is_empty(), "{what}");
             }
         }
     }
+}
+
+/// The projections the drawing tests take every corner view in.
+const PROJECTIONS: [Projection; 2] = [
+    Projection::Orthographic,
+    Projection::Perspective { fov_y_deg: 30.0 },
+];
+
+/// Scenes with one round part, and its index: alone, beside a cube, on a cube.
+fn round_scenes() -> Vec<(Scene, usize)> {
+    let cube = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
+    let round = |x: f64, y: f64, z: f64| Block::new("c15", DVec3::new(x, y, z), 0.0);
+    vec![
+        (Scene::new("alone", vec![round(0.0, 7.5, 0.0)]), 0),
+        (Scene::new("beside", vec![cube, round(15.0, 7.5, 15.0)]), 1),
+        (Scene::new("on_cube", vec![cube, round(0.0, 22.5, 0.0)]), 1),
+    ]
 }
 
 /// How many silhouette generators of the round part `drawing` shows (a generator may be cut into
@@ -450,21 +434,11 @@ fn parallelogram_search_fails_on_round_parts_chapter_vii() {
 #[test]
 fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
     use blockworld::recognize::{recognize, sloped_faces, ObservedView, RecognizeOptions};
-    let projections = [
-        Projection::Orthographic,
-        Projection::Perspective { fov_y_deg: 30.0 },
-    ];
     for yaw in [0.0, 90.0, 180.0] {
-        let solid = Scene::new(
-            "solid",
-            vec![Block::new("b30", DVec3::new(0.0, 7.5, 0.0), yaw)],
-        );
-        let wedge = Scene::new(
-            "wedge",
-            vec![Block::new("w30", DVec3::new(0.0, 7.5, 0.0), yaw)],
-        );
+        let block = |id: &str| Scene::new(id, vec![Block::new(id, DVec3::new(0.0, 7.5, 0.0), yaw)]);
+        let (solid, wedge) = (block("b30"), block("w30"));
         let slope = wedge.blocks[0].rotation() * DVec3::new(1.0, 1.0, 0.0).normalize();
-        for projection in projections {
+        for projection in PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 ..CameraOptions::default()
@@ -478,25 +452,8 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
                 let d = visible_line_drawing(&wedge, &cam);
                 let sloped = sloped_faces(&d, &cam, 3.0);
                 seen_sloped += usize::from(!sloped.is_empty());
-                let [right, up, towards] = cam.axes_in_world();
                 for g in &sloped {
-                    assert!(
-                        g.normal.dot(slope).abs() > 1.0 - 1e-6,
-                        "{what}: {}",
-                        g.normal
-                    );
-                    let n = slope * slope.dot(towards).signum();
-                    let c = DVec3::new(n.dot(right), n.dot(up), n.dot(towards));
-                    let want = DVec2::new(-c.x / c.z, -c.y / c.z);
-                    // Relative: a face seen nearly edge-on has a huge gradient (none edge-on).
-                    if c.z.abs() > 1e-9 {
-                        let tol = 1e-6 * want.length().max(1.0);
-                        assert!(
-                            g.gradient.distance(want) < tol,
-                            "{what}: {} vs {want}",
-                            g.gradient
-                        );
-                    }
+                    check_sloped_gradient(g, slope, &cam, &what);
                 }
                 views.push(ObservedView {
                     drawing: d,
@@ -506,16 +463,39 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
             // A 45-degree slope in a vertical plane projects parallel to a horizontal axis
             // where the viewing direction lies in the plane of the two (isometric corner views:
             // two of four); the other two views show it as a fourth and fifth direction.
-            assert!(
-                seen_sloped >= 2,
-                "yaw {yaw} {projection:?}: {seen_sloped} views"
-            );
+            let what = format!("yaw {yaw} {projection:?}");
+            assert!(seen_sloped >= 2, "{what}: {seen_sloped} views");
             let r = recognize(&views, &RecognizeOptions::default()).unwrap();
             let reason = r.reason.unwrap_or_default();
-            assert!(
-                reason.contains("Figure 7.1"),
-                "yaw {yaw} {projection:?}: {reason}"
-            );
+            assert!(reason.contains("Figure 7.1"), "{what}: {reason}");
         }
+    }
+}
+
+/// A sloped face plane found in a drawing is the wedge's: its normal is `slope` (either sign)
+/// and its gradient the one that face has in `cam` (relative to its size: a face seen nearly
+/// edge-on has a huge gradient; exactly edge-on has none).
+fn check_sloped_gradient(
+    g: &blockworld::recognize::FaceGradient,
+    slope: DVec3,
+    cam: &Camera,
+    what: &str,
+) {
+    assert!(
+        g.normal.dot(slope).abs() > 1.0 - 1e-6,
+        "{what}: {}",
+        g.normal
+    );
+    let [right, up, towards] = cam.axes_in_world();
+    let n = slope * slope.dot(towards).signum();
+    let c = DVec3::new(n.dot(right), n.dot(up), n.dot(towards));
+    if c.z.abs() > 1e-9 {
+        let want = DVec2::new(-c.x / c.z, -c.y / c.z);
+        let tol = 1e-6 * want.length().max(1.0);
+        assert!(
+            g.gradient.distance(want) < tol,
+            "{what}: {} vs {want}",
+            g.gradient
+        );
     }
 }

@@ -172,26 +172,34 @@ pub(super) fn round_part_edges(
         }
     }
     for g in generators {
-        let step = TAU / n as f64;
-        let toward = |sign: f64| camera.faces_eye(f.normal(g + sign * step / 2.0), f.point(g, 0.0));
-        let (lit, dark) = if toward(1.0) {
-            (1.0, -1.0)
-        } else {
-            (-1.0, 1.0)
-        };
-        let at = |sign: f64, front: bool| {
-            first_face + side_facet(g + sign * step / 2.0, n, front, faces, first_face)
-        };
-        let k = ring_vertex(g, n);
-        out.push(edge(
-            bi,
-            [k, n + k],
-            [at(lit, true), at(dark, false)],
-            [f.point(g, -half), f.point(g, half)],
-            proj,
-            false,
-        ));
+        let (faces, vertices) = generator_faces(&f, g, n, faces, first_face, camera);
+        let ends = [f.point(g, -half), f.point(g, half)];
+        out.push(edge(bi, vertices, faces, ends, proj, false));
     }
+}
+
+/// The two side facets (global face indices, the one facing the eye first) on either side of
+/// the generator at angle `g`, and its nearest catalog ring vertices (bottom, top).
+fn generator_faces(
+    f: &Frame,
+    g: f64,
+    n: usize,
+    faces: &[Face],
+    first_face: usize,
+    camera: &Camera,
+) -> ([usize; 2], [usize; 2]) {
+    let step = TAU / n as f64;
+    let toward = |sign: f64| camera.faces_eye(f.normal(g + sign * step / 2.0), f.point(g, 0.0));
+    let (lit, dark) = if toward(1.0) {
+        (1.0, -1.0)
+    } else {
+        (-1.0, 1.0)
+    };
+    let at = |sign: f64, front: bool| {
+        first_face + side_facet(g + sign * step / 2.0, n, front, faces, first_face)
+    };
+    let k = ring_vertex(g, n);
+    ([at(lit, true), at(dark, false)], [k, n + k])
 }
 
 #[cfg(test)]
