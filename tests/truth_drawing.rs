@@ -326,6 +326,34 @@ fn hand_made_wedge_is_drawn_like_a_convex_polyhedron() {
     }
 }
 
+/// The catalog's trapezoidal block `w30` (README "Block catalog") in the `wedge` family's
+/// arrangements, on a b30 and under a cube, turned a half turn too: its sloped edges are
+/// ordinary straight lines, and the ray-cast validator agrees in every view.
+#[test]
+fn catalog_wedge_on_and_under_cuboids_agrees_with_ray_casting() {
+    let scenes = [
+        scene(&[
+            ("b30", [0.0, 7.5, 0.0], 0.0),
+            ("w30", [0.0, 22.5, 0.0], 0.0),
+        ]),
+        scene(&[
+            ("w30", [0.0, 7.5, 0.0], 180.0),
+            ("b15", [7.5, 22.5, 0.0], 0.0),
+            ("b15", [0.0, 7.5, -15.0], 0.0),
+        ]),
+    ];
+    for s in &scenes {
+        s.validate("wedge").unwrap();
+        for view in CornerView::ALL {
+            let cam = camera(s, view);
+            let d = visible_line_drawing(s, &cam);
+            assert!(d.curved_lines.is_empty());
+            let bad = validate_by_ray_casting(s, &cam, &d);
+            assert!(bad.is_empty(), "{view:?}: {bad:?}\n{}", describe(&d));
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Contact tolerance: a perturbed scene draws like its intended scene
 // ---------------------------------------------------------------------------------------------
