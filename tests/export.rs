@@ -171,6 +171,31 @@ fn thesis_sample_glb_reads_back_and_matches_the_scene() {
     check_against_scene(&scene, &gltf, None);
 }
 
+/// The Chapter VII parts export like any block: the wedge as its exact polyhedron, the round
+/// part as its inscribed 64-sided prism (README "Block catalog"), each mesh checked against the
+/// catalog's bounds, triangles and volume, each node against the scene's world vertices.
+#[test]
+fn wedge_and_round_part_glb_read_back_and_match_the_scene() {
+    let scene = Scene::new(
+        "chapter_vii_parts",
+        vec![
+            Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+            Block::new("w30", DVec3::new(0.0, 22.5, 0.0), 90.0),
+            Block::new("c15", DVec3::new(30.0, 7.5, 0.0), 0.0),
+        ],
+    );
+    scene.validate("parts").unwrap();
+    let glb = scene_to_glb(&scene).unwrap();
+    let gltf = gltf::Gltf::from_slice(&glb).unwrap();
+    let names: Vec<&str> = gltf.document.meshes().filter_map(|m| m.name()).collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+    assert!(
+        names.contains(&"w30") && names.contains(&"c15"),
+        "{names:?}"
+    );
+    check_against_scene(&scene, &gltf, None);
+}
+
 #[test]
 fn thesis_sample_gltf_json_and_bin_read_back() {
     let scene = thesis_sample();

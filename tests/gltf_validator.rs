@@ -94,6 +94,20 @@ fn every_glb_the_tests_write_has_no_errors_and_no_warnings() {
             .unwrap();
         files.push(write(tmp.path(), &format!("{stem}_declined.glb"), &glb));
     }
+    // The Chapter VII parts (README "Block catalog"): a wedge on a Baustein 30, a round part.
+    let parts = blockworld::scene::Scene::new(
+        "chapter_vii_parts",
+        vec![
+            blockworld::scene::Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+            blockworld::scene::Block::new("w30", DVec3::new(0.0, 22.5, 0.0), 90.0),
+            blockworld::scene::Block::new("c15", DVec3::new(30.0, 7.5, 0.0), 0.0),
+        ],
+    );
+    files.push(write(
+        tmp.path(),
+        "chapter_vii_parts.glb",
+        &scene_to_glb(&parts).unwrap(),
+    ));
     let Some(reports) = validate(&files) else {
         return;
     };

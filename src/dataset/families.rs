@@ -19,6 +19,9 @@ pub const GRID_MM: f64 = 7.5;
 /// Why a scene of the "upper layer larger" family is unsupported (Ch. VII, Figure 7.2).
 pub const REASON_UPPER_LARGER: &str = "upper layer larger than the layer below: parallelogram surfaces cannot be found from each corner direction (Ch. VII, Figure 7.2)";
 
+/// Why a scene of the "round" family is unsupported (Ch. VII's conclusion).
+pub const REASON_ROUND_PARTS: &str = "round parts: with other kinds of blocks like pyramids or circles, the parallelogram surface searching fails (Ch. VII)";
+
 /// Why a scene of the "yaw" family is unsupported (Ch. VII).
 pub const REASON_NOT_UNIFORM: &str = "blocks not in uniform direction: the six-bit directions and gradients assume every block turned by a multiple of 90 degrees (Ch. VII)";
 
@@ -48,6 +51,11 @@ pub enum Family {
     UpperLarger,
     /// Failure case: at least one block turned by a yaw that is not a multiple of 90 degrees.
     NonUniformYaw,
+    /// Chapter VII's trapezoidal block: a wedge on the floor or on a Baustein 30, with cubes
+    /// on its flat top or beside it, every wedge facing +x (one direction).
+    Wedge,
+    /// Failure case (Chapter VII's "circles"): round parts on the floor, on or under cubes.
+    Round,
 }
 
 impl Family {
@@ -66,6 +74,10 @@ impl Family {
         Family::NonUniformYaw,
     ];
 
+    /// The Chapter VII families (`--family wedge`, `--family round`). Not in [`Family::ALL`],
+    /// so the default cycle, and every dataset and suite made from it, stays as it was.
+    pub const CHAPTER_VII: [Family; 2] = [Family::Wedge, Family::Round];
+
     /// The name used on the command line and in manifests.
     pub fn name(self) -> &'static str {
         match self {
@@ -80,12 +92,17 @@ impl Family {
             Family::RandomStack => "random_stack",
             Family::UpperLarger => "upper_larger",
             Family::NonUniformYaw => "yaw",
+            Family::Wedge => "wedge",
+            Family::Round => "round",
         }
     }
 
     /// Parses a family name.
     pub fn parse(s: &str) -> Option<Family> {
-        Family::ALL.into_iter().find(|f| f.name() == s.trim())
+        Family::ALL
+            .into_iter()
+            .chain(Family::CHAPTER_VII)
+            .find(|f| f.name() == s.trim())
     }
 
     /// Smallest and largest block count a draw can have.
@@ -102,6 +119,8 @@ impl Family {
             Family::RandomStack => (3, 12),
             Family::UpperLarger => (2, 6),
             Family::NonUniformYaw => (2, 4),
+            Family::Wedge => (1, 4),
+            Family::Round => (1, 4),
         }
     }
 
@@ -110,6 +129,8 @@ impl Family {
         match self {
             Family::Tower | Family::Staircase => &["b15", "b7_5", "b30"],
             Family::UpperLarger => &["b30", "b15", "b7_5"],
+            Family::Wedge => &["w30", "b30", "b15"],
+            Family::Round => &["c15", "b15", "b30"],
             _ => &["b15", "b30", "b7_5"],
         }
     }
@@ -123,6 +144,7 @@ impl Family {
         match self {
             Family::UpperLarger => unsupported(REASON_UPPER_LARGER),
             Family::NonUniformYaw => unsupported(REASON_NOT_UNIFORM),
+            Family::Round => unsupported(REASON_ROUND_PARTS),
             _ => Expect {
                 supported: true,
                 reason: None,
@@ -144,6 +166,8 @@ impl Family {
             Family::RandomStack => "3-12 mixed blocks dropped on a 45 mm square, fully supported",
             Family::UpperLarger => "a b30 cantilevered, bridging or crossing over smaller blocks",
             Family::NonUniformYaw => "blocks turned by yaws that are not multiples of 90 degrees",
+            Family::Wedge => "a wedge (Figure 7.1) on the floor or on a b30, cubes on or beside it",
+            Family::Round => "round parts on the floor, on or under cubes (Ch. VII's circles)",
         }
     }
 
@@ -162,6 +186,8 @@ impl Family {
             Family::RandomStack => random_stack(rng),
             Family::UpperLarger => upper_larger(rng),
             Family::NonUniformYaw => non_uniform_yaw(rng),
+            Family::Wedge => wedge(rng),
+            Family::Round => round(rng),
         }?;
         let (lo, hi) = self.block_range();
         (lo..=hi).contains(&blocks.len()).then_some(blocks)
@@ -516,6 +542,64 @@ fn non_uniform_yaw(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
         ));
         Some(blocks)
     }
+}
+
+/// A wedge facing +x (yaw 0, the one direction) on the floor or on a Baustein 30 of its
+/// footprint; a wedge on the floor may carry a b15 on its flat top; cubes may stand beside it on
+/// the floor, in front of its -x end or behind it along z. (A b15 on a wedge on a b30 is left
+/// out: measured, rapier's hull contact lets that three-high tower drift 0.7 mm.)
+fn wedge(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
+    let (cx, cz) = (
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+    );
+    let mut blocks = Vec::new();
+    let on_b30 = rng.random_bool(0.5);
+    let mut base = 0.0;
+    if on_b30 {
+        blocks.push(Block::new("b30", DVec3::new(cx, 7.5, cz), 0.0));
+        base = 15.0;
+    }
+    blocks.push(Block::new("w30", DVec3::new(cx, base + 7.5, cz), 0.0));
+    if !on_b30 && rng.random_bool(0.5) {
+        blocks.push(Block::new("b15", DVec3::new(cx - 7.5, 22.5, cz), 0.0));
+    }
+    if rng.random_bool(0.5) {
+        blocks.push(Block::new("b15", DVec3::new(cx - 22.5, 7.5, cz), 0.0));
+    }
+    if rng.random_bool(0.4) {
+        let id = pick(rng, &["b15", "b30"]);
+        blocks.push(Block::new(id, DVec3::new(cx, 7.5, cz - 15.0), 0.0));
+    }
+    Some(blocks)
+}
+
+/// One or two round parts (`c15`) on the floor, on a b15 or carrying one, with a cube or a
+/// b30 beside them on the floor.
+fn round(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
+    let (cx, cz) = (
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+        rng.random_range(-2..=2) as f64 * GRID_MM,
+    );
+    let mut blocks = Vec::new();
+    match rng.random_range(0..3) {
+        0 => blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0)),
+        1 => {
+            blocks.push(Block::new("b15", DVec3::new(cx, 7.5, cz), 0.0));
+            blocks.push(Block::new("c15", DVec3::new(cx, 22.5, cz), 0.0));
+        }
+        _ => {
+            blocks.push(Block::new("c15", DVec3::new(cx, 7.5, cz), 0.0));
+            blocks.push(Block::new("b15", DVec3::new(cx, 22.5, cz), 0.0));
+        }
+    }
+    if rng.random_bool(0.6) {
+        let id = pick(rng, &["b15", "b30", "c15"]);
+        let size_x = crate::scene::block_type(id).map_or(15.0, |t| t.size_mm().x);
+        let x = cx + 7.5 + size_x / 2.0 + rng.random_range(0..=1) as f64 * GRID_MM;
+        blocks.push(Block::new(id, DVec3::new(x, 7.5, cz), 0.0));
+    }
+    Some(blocks)
 }
 
 #[cfg(test)]

@@ -80,6 +80,12 @@ pub struct LineDrawing {
     /// turned 45 degrees in a corner view): flagged, not guessed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub unclassified_lines: Vec<usize>,
+    /// Lines that are chords of a curved edge (a round part's rim, Chapter VII's "circles"):
+    /// consecutive curved lines form a polyline whose every point lies exactly on the
+    /// projected circle. Absent from the JSON when empty, so straight-line drawings keep their
+    /// bytes (README "The exact line drawing").
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub curved_lines: Vec<usize>,
 }
 
 impl LineDrawing {

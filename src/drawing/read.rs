@@ -68,6 +68,14 @@ pub enum DrawingError {
         /// Number of lines.
         lines: usize,
     },
+    /// `curved_lines` names a line that does not exist.
+    #[error("curved_lines names line {line}, but the drawing has {lines} lines")]
+    BadCurved {
+        /// The line index as written.
+        line: usize,
+        /// Number of lines.
+        lines: usize,
+    },
 }
 
 /// Largest coordinate a drawing's point may have, px: over a hundred times the largest picture
@@ -88,6 +96,8 @@ struct DrawingFile {
     edges: Vec<EdgeRef>,
     #[serde(default)]
     unclassified_lines: Option<Vec<usize>>,
+    #[serde(default)]
+    curved_lines: Vec<usize>,
 }
 
 impl LineDrawing {
@@ -105,11 +115,15 @@ impl LineDrawing {
             kinds: f.kinds,
             edges: f.edges,
             unclassified_lines: f.unclassified_lines.clone().unwrap_or_default(),
+            curved_lines: f.curved_lines,
         };
         d.check_indices()?;
         let nl = d.lines.len();
         if let Some(&line) = d.unclassified_lines.iter().find(|&&l| l >= nl) {
             return Err(DrawingError::BadUnclassified { line, lines: nl });
+        }
+        if let Some(&line) = d.curved_lines.iter().find(|&&l| l >= nl) {
+            return Err(DrawingError::BadCurved { line, lines: nl });
         }
         if computed || f.unclassified_lines.is_none() {
             let (codes, junctions) = (d.codes.clone(), d.junctions.clone());
@@ -235,5 +249,21 @@ mod tests {
             DrawingError::BadUnclassified { line: 4, .. }
         ));
         assert!(matches!(bad("[1, 2]"), DrawingError::Format(_)));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0], [1, 1]], "lines": [[0, 1]], "curved_lines": [1]}"#),
+            DrawingError::BadCurved { line: 1, .. }
+        ));
+    }
+
+    /// `curved_lines` reads back as written and is left out of a straight drawing's JSON
+    /// (README "The exact line drawing").
+    #[test]
+    fn curved_lines_round_trip_and_are_absent_when_empty() {
+        let text = r#"{"points": [[0, 0], [1, 1], [3, 1]], "lines": [[0, 1], [1, 2]], "curved_lines": [0, 1]}"#;
+        let d = LineDrawing::from_json(text).unwrap();
+        assert_eq!(d.curved_lines, [0, 1]);
+        assert_eq!(LineDrawing::from_json(&d.to_json()).unwrap(), d);
+        let square = LineDrawing::from_json(SQUARE).unwrap();
+        assert!(!square.to_json().contains("curved"));
     }
 }

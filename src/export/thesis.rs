@@ -15,7 +15,7 @@
 //! is kept as it is. Reading back gives world mm in that frame.
 
 use crate::geom::{heading_deg, DVec3};
-use crate::scene::{Block, Orientation, Scene, CATALOG};
+use crate::scene::{basic_blocks, Block, Orientation, Scene};
 use glam::{DMat3, DQuat};
 
 /// The thesis's unit of length: the edge of the sample's unit cube, the Baustein 15 (15 mm).
@@ -474,8 +474,7 @@ fn cuboid_from_corner(corner: DVec3, edges: &[DVec3]) -> Result<Block, String> {
         }
     }
     let size = DVec3::new(ex.length(), ey.length(), ez.length());
-    let block_type = CATALOG
-        .iter()
+    let block_type = basic_blocks()
         .find(|t| (t.size_mm() - size).abs().max_element() < VERTEX_TOL_MM)
         .ok_or_else(|| {
             format!(

@@ -288,7 +288,8 @@ fn block_pose_m(block: &Block, q: DQuat, lift_mm: f64) -> Pose {
 }
 
 /// A cuboid collider when the catalog says the block is one (x and z half extents swapped when
-/// `swap_xz`), else the convex hull of its catalog vertices (so a wedge needs no code here).
+/// `swap_xz`), rapier's exact cylinder for a round part (Chapter VII's "circles", axis along
+/// local y as in the catalog), else the convex hull of its catalog vertices (the wedge).
 fn block_collider(
     block: &Block,
     index: usize,
@@ -303,6 +304,10 @@ fn block_collider(
             h
         };
         return Ok(ColliderBuilder::cuboid(h.x, h.y, h.z));
+    }
+    if let Some(r) = t.round() {
+        let (half_height, radius) = (r.height_mm / 2.0 * M_PER_MM, r.radius_mm * M_PER_MM);
+        return Ok(ColliderBuilder::cylinder(half_height as f32, radius as f32));
     }
     let points: Vec<Vector> = t.vertices().map(|v| (v * M_PER_MM).as_vec3()).collect();
     ColliderBuilder::convex_hull(&points).ok_or(PhysicsError::BadShape {

@@ -9,7 +9,7 @@ use crate::camera::Projector;
 use crate::drawing::LineDrawing;
 use crate::geom::DVec2;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
-use crate::scene::{Block, BlockType, Orientation, CATALOG};
+use crate::scene::{basic_blocks, Block, BlockType, Orientation};
 use std::cell::RefCell;
 
 /// Tolerances of the catalog match, mm and degrees.
@@ -33,7 +33,7 @@ impl Default for MatchTolerances {
 /// The heights (mm) a top face can have: every sum of catalog block heights up to
 /// `max_height_mm` (a stack of layers on the floor, Chapter V), ascending.
 pub fn level_heights_mm(max_height_mm: f64) -> Vec<f64> {
-    let heights: Vec<f64> = CATALOG.iter().map(|t| t.size_mm().y).collect();
+    let heights: Vec<f64> = basic_blocks().map(|t| t.size_mm().y).collect();
     let mut levels: Vec<f64> = vec![0.0];
     let mut i = 0;
     while i < levels.len() {
@@ -263,8 +263,7 @@ pub fn catalog_proposals_where(
     let proj = Projector::new(camera);
     let rays = RayCache::new(&proj, camera.is_orthographic());
     // Every (type, yaw) with its footprint and height, read from the catalog once.
-    let shapes: Vec<(&'static BlockType, f64, (f64, f64), f64)> = CATALOG
-        .iter()
+    let shapes: Vec<(&'static BlockType, f64, (f64, f64), f64)> = basic_blocks()
         .flat_map(|t| {
             let h = t.size_mm().y;
             distinct_yaws_deg(t)

@@ -18,7 +18,7 @@ use super::verify::{compare_drawings, draw_hypothesis, ViewCheck};
 use super::ObservedView;
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3};
-use crate::scene::{Block, Orientation, CATALOG};
+use crate::scene::{basic_blocks, Block, Orientation};
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
 
@@ -414,7 +414,7 @@ pub fn catalog_splits(b: &Block) -> Vec<[Block; 2]> {
     for k in 0..3 {
         let mut half = size;
         half[k] /= 2.0;
-        for t in CATALOG {
+        for t in basic_blocks() {
             let s = t.size_mm();
             let turn = if s.distance(half) < 1e-9 {
                 0.0
@@ -448,7 +448,7 @@ pub fn catalog_merge(a: &Block, b: &Block) -> Option<Block> {
     let same = |x: &Block, y: &Block| {
         x.block_type.id == y.block_type.id && x.center_mm.distance(y.center_mm) < 0.1
     };
-    CATALOG.iter().find_map(|t| {
+    basic_blocks().find_map(|t| {
         distinct_yaws_deg(t).into_iter().find_map(|yaw| {
             let m = Block::new(t.id, centre, yaw);
             catalog_splits(&m)

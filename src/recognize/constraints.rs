@@ -1,11 +1,12 @@
 //! What the method cannot do (thesis Chapter VII), detected and named so the recognizer
-//! declines instead of guessing: lines in no six-bit direction, blocks not in one direction,
-//! an upper layer larger than the layer below (Figure 7.2), blocks with no visible support.
+//! declines instead of guessing: curved edges (round parts, "circles"), lines in no six-bit
+//! direction, blocks not in one direction, an upper layer larger than the layer below
+//! (Figure 7.2), blocks with no visible support.
 
 use super::catalog_match::bounds_mm;
 use super::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{DVec2, DVec3};
+use crate::geom::{DVec2, DVec3, UnionFind};
 use crate::scene::Block;
 
 /// Lines of `drawing` whose picture direction is not that of a world axis (x, y or z) seen by
@@ -31,6 +32,60 @@ pub fn lines_off_the_axes(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) 
             })
         })
         .map(|(i, _)| i)
+        .collect()
+}
+
+/// A joint of a curved chain turns the line direction by at least this, degrees (collinear
+/// pieces of one straight edge turn by less than the 2 degrees of Chapter IV's tolerances).
+const MIN_BEND_DEG: f64 = 2.0;
+/// ... and by at most this, degrees: a chord of a circle drawn with 64 sides turns by 5.6
+/// degrees in the circle's plane, up to about 25 degrees foreshortened at an ellipse's ends,
+/// while the corners of blocks (L junctions) turn by far more in corner views.
+const MAX_BEND_DEG: f64 = 35.0;
+/// A curved chain has at least this many joints: no drawing of blocks in one direction has
+/// four gentle bends in a row.
+const MIN_CURVED_JOINTS: usize = 4;
+
+/// Lines of `drawing` that form curved chains: runs of lines joined at points of exactly two
+/// lines where the direction turns gently (between [`MIN_BEND_DEG`] and [`MAX_BEND_DEG`]), at
+/// least [`MIN_CURVED_JOINTS`] joints to a run, plus the lines the drawing itself flags as
+/// curved. A round part's rim projects to an ellipse, drawn (by the exact drawing or by a
+/// front end that follows the curve) as such a chain; Chapter VII: "with other kinds of blocks
+/// like pyramids or circles, the parallelogram surface searching fails". Read from the picture
+/// geometry, so a drawing without flags is judged the same.
+pub fn curved_chain_lines(drawing: &LineDrawing) -> Vec<usize> {
+    let n = drawing.lines.len();
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); drawing.points.len()];
+    for (li, &[a, b]) in drawing.lines.iter().enumerate() {
+        incident[a].push(li);
+        incident[b].push(li);
+    }
+    let mut chains = UnionFind::new(n);
+    let mut joints = Vec::new();
+    for (p, lines) in incident.iter().enumerate() {
+        let &[l1, l2] = lines.as_slice() else {
+            continue;
+        };
+        let away = |l: usize| {
+            let [a, b] = drawing.lines[l];
+            let other = if a == p { b } else { a };
+            drawing.points[other] - drawing.points[p]
+        };
+        // The turn between arriving along l1 (reversed) and leaving along l2.
+        let bend = (-away(l1)).angle_to(away(l2)).abs().to_degrees();
+        if (MIN_BEND_DEG..=MAX_BEND_DEG).contains(&bend) {
+            chains.union(l1, l2);
+            joints.push(l1);
+        }
+    }
+    let mut per_chain = vec![0usize; n];
+    for l in joints {
+        per_chain[chains.find(l)] += 1;
+    }
+    (0..n)
+        .filter(|&l| {
+            per_chain[chains.find(l)] >= MIN_CURVED_JOINTS || drawing.curved_lines.contains(&l)
+        })
         .collect()
 }
 

@@ -18,7 +18,8 @@
 //!    every observed view; `ok` only when every view is explained and no split or merged
 //!    alternative explains them equally well ([`equally_good_alternative`]), otherwise
 //!    `unsupported` with the reason, as also for what Chapter VII says the method cannot do
-//!    ([`lines_off_the_axes`], [`overhanging_blocks`], [`floating_blocks`]).
+//!    ([`curved_chain_lines`], [`lines_off_the_axes`], [`overhanging_blocks`],
+//!    [`floating_blocks`]).
 
 mod ambiguity;
 mod catalog_match;
@@ -27,6 +28,7 @@ mod constraints;
 mod direct;
 mod parallelogram;
 mod select;
+mod trapezoid;
 mod verify;
 
 /// The camera types this stage and `csg` use (the one import of them, so the camera's move to
@@ -45,13 +47,16 @@ pub use compare::{
     catalog_merge, catalog_splits, choose_blocks, pool_candidates, pool_proposals, yaw_deg,
     PooledCandidate, SearchLimits, FLUSH_TOL_MM,
 };
-pub use constraints::{floating_blocks, lines_off_the_axes, overhanging_blocks};
+pub use constraints::{
+    curved_chain_lines, floating_blocks, lines_off_the_axes, overhanging_blocks,
+};
 pub use direct::{direct_hypothesis, well_supported};
 pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
+pub use trapezoid::{face_gradients, line_world_direction, sloped_faces, FaceGradient};
 pub use verify::{
     blocks_drawn_in_excess, check_hypothesis, compare_drawings, distance_to_segment_px,
     draw_hypothesis, ViewCheck,
@@ -113,6 +118,22 @@ impl Default for RecognizeOptions {
 /// Why the recognizer declined (status `unsupported`), in the thesis's words.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Decline {
+    /// Curved lines: a round part (Chapter VII's "circles").
+    #[error("view {view}: {count} lines form curved chains (ellipse-like: a round part's rim); with blocks like pyramids or circles the parallelogram surface searching fails (Chapter VII)")]
+    RoundParts {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// A sloped face: a trapezoidal block, told from the solid blocks by its gradient.
+    #[error("view {view}: {count} face planes have the gradient of a sloped face: a trapezoidal block, distinguished from solid blocks by the gradient constraints (Chapter VII, Figure 7.1); its reconstruction is not implemented")]
+    TrapezoidalBlock {
+        /// The view's name.
+        view: String,
+        /// How many sloped face planes (one per pair of lines at a junction).
+        count: usize,
+    },
     /// Lines within 2 degrees of horizontal (Chapter IV's six directions do not cover them).
     #[error("view {view}: {count} lines fall in no six-bit direction (Chapter IV); blocks are not in one direction (Chapter VII)")]
     UnclassifiedLines {
@@ -242,10 +263,22 @@ fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
     Ok(())
 }
 
-/// Chapter VII's direction constraint on the observed drawings, before any search.
+/// Chapter VII's constraints on the observed drawings, before any search: no curved edges
+/// (round parts), no sloped face (a trapezoidal block, Figure 7.1), every line in a six-bit
+/// direction and along a block axis.
 fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<Decline> {
     for v in views {
         let view = v.camera.view.name().to_string();
+        let curved = curved_chain_lines(&v.drawing);
+        if !curved.is_empty() {
+            let count = curved.len();
+            return Some(Decline::RoundParts { view, count });
+        }
+        let sloped = sloped_faces(&v.drawing, &v.camera, opts.axis_tol_deg);
+        if !sloped.is_empty() {
+            let count = sloped.len();
+            return Some(Decline::TrapezoidalBlock { view, count });
+        }
         if !v.drawing.unclassified_lines.is_empty() {
             let count = v.drawing.unclassified_lines.len();
             return Some(Decline::UnclassifiedLines { view, count });

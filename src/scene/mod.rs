@@ -11,7 +11,10 @@ mod file;
 mod reconstruction;
 mod sat;
 
-pub use catalog::{block_type, BlockType, ConvexPolyhedron, Shape, CATALOG};
+pub use catalog::{
+    basic_blocks, block_type, BlockType, ConvexPolyhedron, RoundPart, Shape, CATALOG,
+    ROUND_PRISM_SIDES,
+};
 pub use error::SceneError;
 pub use file::{
     parse_reconstruction, parse_scene, parse_scene_with_progress, read_reconstruction, read_scene,
@@ -309,5 +312,48 @@ mod tests {
             sunk.validate("t"),
             Err(SceneError::BelowFloor { index: 0, .. })
         ));
+    }
+
+    /// The wedge and the round part validate by their own shapes: a round part next to a cube's
+    /// corner is judged by its circle (the inscribed prism, within 0.009 mm), not its bounding
+    /// box, and a wedge's slope lets a cube sit over its low end only where the slope clears it.
+    #[test]
+    fn wedge_and_round_part_overlaps_use_their_exact_shapes() {
+        let cube = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
+        // Centre 5.4 mm out along both x and z from the cube's corner: the circle clears the
+        // corner by 5.4 sqrt 2 - 7.5 = 0.137 mm while the boxes overlap by 2.1 mm.
+        let round_at = |a: f64| Block::new("c15", DVec3::new(7.5 + a, 7.5, 7.5 + a), 0.0);
+        Scene::new("r", vec![cube, round_at(5.4)])
+            .validate("r")
+            .unwrap();
+        // 5.2 mm out the circle cuts 0.146 mm into the corner.
+        match Scene::new("r", vec![cube, round_at(5.2)]).validate("r") {
+            Err(SceneError::Overlap { depth_mm, .. }) => {
+                assert!((depth_mm - 0.146).abs() < 0.01, "{depth_mm}")
+            }
+            other => panic!("expected overlap, got {other:?}"),
+        }
+        // Two round parts 15 mm apart touch; 14.8 mm apart they overlap by 0.2 mm.
+        let round = |x: f64| Block::new("c15", DVec3::new(x, 7.5, 0.0), 0.0);
+        Scene::new("rr", vec![round(0.0), round(15.0)])
+            .validate("rr")
+            .unwrap();
+        assert!(Scene::new("rr", vec![round(0.0), round(14.8)])
+            .validate("rr")
+            .is_err());
+        // A wedge on the floor, its slope falling over x in 0..15: a cube resting at the slope's
+        // foot level with its centre at x = 15 clears it above y = 15 only.
+        let wedge = Block::new("w30", DVec3::new(0.0, 7.5, 0.0), 0.0);
+        let over = |y: f64| Block::new("b15", DVec3::new(11.0, y, 0.0), 0.0);
+        Scene::new("w", vec![wedge, over(22.5)])
+            .validate("w")
+            .unwrap();
+        // At y = 16 the cube's bottom (8.5) cuts into the slope, whose height at x = 3.5 is 11.5.
+        assert!(Scene::new("w", vec![wedge, over(16.0)])
+            .validate("w")
+            .is_err());
+        // A cube against the wedge's vertical -x end touches; the box test alone would too.
+        let end = Block::new("b15", DVec3::new(-22.5, 7.5, 0.0), 0.0);
+        Scene::new("w", vec![wedge, end]).validate("w").unwrap();
     }
 }

@@ -58,9 +58,15 @@ fn cube_group() -> Vec<DQuat> {
 }
 
 /// The smallest rotation angle in degrees taking block `a`'s pose to block `b`'s, modulo
-/// `a`'s symmetry rotations (`symmetry`, from [`symmetry_rotations`]).
+/// `a`'s symmetry rotations (`symmetry`, from [`symmetry_rotations`]). A round part is
+/// symmetric under every turn about its axis (and a half turn across it), so for it only the
+/// angle between the two axes counts, whatever its prism's symmetries.
 pub fn turn_error_deg(a: &Block, b: &Block, symmetry: &[DQuat]) -> f64 {
     let (qa, qb) = (a.rotation(), b.rotation());
+    if a.block_type.round().is_some() {
+        let (ya, yb) = (qa * DVec3::Y, qb * DVec3::Y);
+        return ya.angle_between(yb).min(ya.angle_between(-yb)).to_degrees();
+    }
     symmetry
         .iter()
         .map(|s| {

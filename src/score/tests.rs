@@ -485,3 +485,126 @@ fn report_pairwise_volume_agreement_and_cost() {
         pairs.len()
     );
 }
+
+/// Analytic IoU of two upright cylinders of radius `r` and height `h`, centres `dx` apart
+/// horizontally and `dy` vertically: the lens area `2 r^2 acos(d / 2r) - (d / 2) sqrt(4 r^2 - d^2)`
+/// times the shared height, over the union.
+fn cylinder_pair_iou(r: f64, h: f64, dx: f64, dy: f64) -> f64 {
+    let lens = if dx >= 2.0 * r {
+        0.0
+    } else {
+        2.0 * r * r * (dx / (2.0 * r)).acos() - dx / 2.0 * (4.0 * r * r - dx * dx).sqrt()
+    };
+    let inter = lens * (h - dy.abs()).max(0.0);
+    let v = std::f64::consts::PI * r * r * h;
+    inter / (2.0 * v - inter)
+}
+
+/// Round parts are scored through their inscribed 64-sided prisms, within the stated bound: each
+/// prism misses the fraction `s` = [`crate::scene::RoundPart::prism_volume_shortfall`] (0.16 %)
+/// of its cylinder and lies inside it, so the intersection and the union each lose at most
+/// `2 s V`, and the IoU lies in `[(I - 2sV) / U, I / (U - 2sV)]` around the analytic `I / U`.
+/// Checked on cylinder pairs disjoint, identical, half overlapped sideways (centres one radius
+/// apart), half overlapped in height, and shifted diagonally; a bound ten times tighter fails
+/// for the sideways pair (the check can fail).
+#[test]
+fn round_part_iou_through_the_prism_is_within_the_stated_bound_of_the_analytic_cylinders() {
+    let t = crate::scene::block_type("c15").unwrap();
+    let r = t.round().unwrap();
+    let (radius, h) = (r.radius_mm, r.height_mm);
+    let v = r.cylinder_volume_mm3();
+    let s = crate::scene::RoundPart::prism_volume_shortfall();
+    let c = |x: f64, y: f64, yaw: f64| Block::new("c15", DVec3::new(x, y + 7.5, 0.0), yaw);
+    let mut tight_failures = 0;
+    for (dx, dy, yaw) in [
+        (20.0, 0.0, 0.0),
+        (0.0, 0.0, 0.0),
+        (7.5, 0.0, 0.0),
+        (7.5, 0.0, 30.0),
+        (0.0, 7.5, 0.0),
+        (5.0, 4.0, 11.0),
+    ] {
+        let want = cylinder_pair_iou(radius, h, dx, dy);
+        let got = volume_iou(&scene(vec![c(0.0, 0.0, 0.0)]), &scene(vec![c(dx, dy, yaw)])).unwrap();
+        let (i, u) = (want * 2.0 * v / (1.0 + want), 2.0 * v / (1.0 + want));
+        let (lo, hi) = (
+            ((i - 2.0 * s * v) / u).max(0.0),
+            (i / (u - 2.0 * s * v)).min(1.0),
+        );
+        eprintln!("dx {dx} dy {dy} yaw {yaw}: analytic {want:.5}, prism {got:.5}, bound [{lo:.5}, {hi:.5}]");
+        assert!(
+            lo - 1e-9 <= got && got <= hi + 1e-9,
+            "dx {dx} dy {dy}: {got} not in [{lo}, {hi}]"
+        );
+        let (lo10, hi10) = ((i - 0.2 * s * v) / u, i / (u - 0.2 * s * v));
+        if got < lo10 - 1e-9 || got > hi10 + 1e-9 {
+            tight_failures += 1;
+        }
+    }
+    assert!(
+        tight_failures > 0,
+        "a bound ten times tighter should not hold everywhere"
+    );
+    // Identical and disjoint are exact; one radius apart (half a diameter) is the lens case.
+    assert_eq!(
+        volume_iou(
+            &scene(vec![c(0.0, 0.0, 0.0)]),
+            &scene(vec![c(0.0, 0.0, 0.0)])
+        )
+        .unwrap(),
+        1.0
+    );
+    assert_eq!(
+        volume_iou(
+            &scene(vec![c(0.0, 0.0, 0.0)]),
+            &scene(vec![c(20.0, 0.0, 0.0)])
+        )
+        .unwrap(),
+        0.0
+    );
+    // Half the height shared: I = V / 2, U = 3 V / 2, IoU 1/3, exactly for the prisms too.
+    let half = volume_iou(
+        &scene(vec![c(0.0, 0.0, 0.0)]),
+        &scene(vec![c(0.0, 7.5, 0.0)]),
+    )
+    .unwrap();
+    // (within the f32 rounding of parry's hull, 4e-7 here)
+    assert!((half - 1.0 / 3.0).abs() < 1e-6, "{half}");
+}
+
+/// A wedge is a convex polytope, scored exactly: against the Baustein 30 with its footprint its
+/// IoU is its volume over the cuboid's (45 / 60 = 0.75), and against itself turned a half turn
+/// about +y it shares the region under both slopes, hand computed below.
+#[test]
+fn wedge_iou_is_exact() {
+    let w = |yaw: f64| Block::new("w30", DVec3::new(0.0, 7.5, 0.0), yaw);
+    let b30 = Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0);
+    let got = volume_iou(&scene(vec![w(0.0)]), &scene(vec![b30])).unwrap();
+    assert!((got - 0.75).abs() < 1e-9, "{got}");
+    // Unturned: top over x in -15..0, slope y = 15 - x over 0..15. Turned: top over 0..15,
+    // slope y = 15 + x over -15..0. Common: over -15..0 the turned slope (area 112.5 of a
+    // 15 x 15 square), over 0..15 the unturned slope (112.5): 225 mm^2 times 15 mm depth.
+    let (i, v) = (225.0 * 15.0, 5062.5);
+    let got = volume_iou(&scene(vec![w(0.0)]), &scene(vec![w(180.0)])).unwrap();
+    assert!((got - i / (2.0 * v - i)).abs() < 1e-9, "{got}");
+    // No proper rotation but the identity maps the wedge onto itself (its mirror in z is a
+    // reflection).
+    assert_eq!(
+        symmetry_rotations(crate::scene::block_type("w30").unwrap()).len(),
+        1
+    );
+}
+
+/// A round part's turn error ignores turns about its axis (the prism's 90-degree symmetry would
+/// otherwise report up to 45 degrees) but not a tilt.
+#[test]
+fn round_part_turn_error_ignores_turns_about_its_axis() {
+    let t = crate::scene::block_type("c15").unwrap();
+    let sym = symmetry_rotations(t);
+    let a = Block::new("c15", DVec3::ZERO, 0.0);
+    let b = Block::new("c15", DVec3::ZERO, 37.0);
+    assert!(turn_error_deg(&a, &b, &sym) < 1e-9);
+    let mut tilted = a;
+    tilted.orientation = Orientation::Quaternion(DQuat::from_rotation_x(5f64.to_radians()));
+    assert!((turn_error_deg(&a, &tilted, &sym) - 5.0).abs() < 1e-9);
+}

@@ -31,7 +31,7 @@ pub struct Args {
     pub output: PathBuf,
     /// Families to cycle through (repeat or comma-separate); default all. One of: single, row,
     /// l_shape, two_layer, three_layer, tower, staircase, separated, random_stack,
-    /// upper_larger, yaw.
+    /// upper_larger, yaw; and, only when named, the Chapter VII parts: wedge, round.
     #[arg(long = "family", value_delimiter = ',')]
     pub families: Vec<String>,
     /// Worker threads (default: all cores). The dataset's bytes do not depend on it.
@@ -69,7 +69,11 @@ pub fn parse_families(names: &[String]) -> anyhow::Result<Vec<Family>> {
         .iter()
         .map(|n| {
             Family::parse(n).with_context(|| {
-                let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+                let known: Vec<&str> = Family::ALL
+                    .iter()
+                    .chain(&Family::CHAPTER_VII)
+                    .map(|f| f.name())
+                    .collect();
                 format!(
                     "--family: unknown family {n:?}; known: {}",
                     known.join(", ")

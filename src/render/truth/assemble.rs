@@ -291,6 +291,9 @@ fn build_lines(
                     seg.t_at(geo, seg.u_of(q0 + dir * along).clamp(0.0, 1.0))
                 }
             };
+            if e.curved {
+                d.curved_lines.push(d.lines.len());
+            }
             d.lines.push([ka, kb]);
             d.kinds.push(seg.piece.kind);
             d.edges.push(EdgeRef {

@@ -68,6 +68,8 @@ pub(super) struct Edge {
     pub wa: f64,
     /// Clip w of the ends.
     pub wb: f64,
+    /// A chord of a curved edge (a round part's rim, see `round`).
+    pub curved: bool,
 }
 
 impl Edge {
@@ -151,6 +153,20 @@ impl SceneGeometry {
                     front,
                 });
             }
+            let first_edge = edges.len();
+            if bt.round().is_some() {
+                super::round::round_part_edges(
+                    block, bi, &faces, first_face, camera, &proj, &mut edges,
+                );
+                let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();
+                blocks.push(BlockGeometry {
+                    lo,
+                    hi,
+                    centre_y_mm: block.center_mm.y,
+                    edges: first_edge..edges.len(),
+                });
+                continue;
+            }
             let key = bt as *const BlockType;
             let cached = match edge_cache.iter().position(|(k, _)| *k == key) {
                 Some(i) => i,
@@ -159,7 +175,6 @@ impl SceneGeometry {
                     edge_cache.len() - 1
                 }
             };
-            let first_edge = edges.len();
             for &(i, j, fl, fr) in &edge_cache[cached].1 {
                 let (a, b) = (verts[i], verts[j]);
                 let ((pa, wa), (pb, wb)) = (proj.picture_and_w(a), proj.picture_and_w(b));
@@ -173,6 +188,7 @@ impl SceneGeometry {
                     pb,
                     wa,
                     wb,
+                    curved: false,
                 });
             }
             let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();

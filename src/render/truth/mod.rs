@@ -27,6 +27,12 @@
 //!    the snap distance become one point, and a line is split where another line ends on its
 //!    interior (the T junctions); codes and junctions come from [`LineDrawing::finalize`].
 //!
+//! ## Round parts
+//! A round part's own lines come from `round` in closed form (rims as chords with every end on
+//! the exact circle, flagged in [`LineDrawing::curved_lines`]; the silhouette generators at the
+//! exact tangent angles); its faces, for hiding and for the classifying rays, are its catalog
+//! prism's (within 0.009 mm of the cylinder, README "Block catalog").
+//!
 //! ## Contact policy
 //! Settled poses are not flush (README "The exact line drawing"). Faces parallel within
 //! [`TruthTolerances::parallel_deg`] and within [`TruthTolerances::seam_mm`] of each other
@@ -39,6 +45,7 @@
 mod assemble;
 mod classify;
 mod geometry;
+mod round;
 mod visibility;
 
 use crate::camera::Camera;
