@@ -336,3 +336,41 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
     assert!(err.contains("lines_sw.json"), "{err}");
     std::fs::remove_dir_all(&tmp).unwrap();
 }
+
+/// Prints the cost of recognizing `bench recognize`'s 12-block stack (a 3 x 3 layer of b15 with
+/// a row of three on top) from its four exact drawings: run with `cargo test --release --test
+/// recognize_suite print_cost_of_the_12_block_stack -- --ignored --nocapture`, or under
+/// `valgrind --tool=callgrind` for instruction counts that do not depend on the machine's load
+/// (README "Recognizer"). Checks only that the answer is the declined one the views force.
+#[test]
+#[ignore]
+fn print_cost_of_the_12_block_stack() {
+    use blockworld::geom::DVec3;
+    use blockworld::scene::Block;
+    let blocks: Vec<Block> = (0..12usize)
+        .map(|k| {
+            let (layer, i) = (k / 9, k % 9);
+            let x = (i % 3) as f64 * 15.0;
+            let z = (i / 3) as f64 * 15.0;
+            Block::new("b15", DVec3::new(x, layer as f64 * 15.0 + 7.5, z), 0.0)
+        })
+        .collect();
+    let views = truth_views(&Scene::new("bench_12", blocks), &CornerView::ALL);
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(200);
+    let start = std::time::Instant::now();
+    let mut last = None;
+    for _ in 0..reps {
+        last = Some(recognize(&views, &RecognizeOptions::default()).unwrap());
+    }
+    let per = start.elapsed().as_secs_f64() * 1e3 / reps as f64;
+    let r = last.unwrap();
+    assert_eq!(
+        r.status,
+        ReconStatus::Unsupported,
+        "the middle cube could be two b7_5"
+    );
+    println!("12-block stack, exact drawings: {per:.3} ms per recognition ({reps} runs)");
+}
