@@ -1,0 +1,104 @@
+//! `blockworld bench settle`: the cost and the accuracy of settling (README "Settling and
+//! datasets") on the peer benchmark's 12-block stack (README "Benchmarks": the same twelve
+//! cuboids a PyBullet pipeline settles) and on cube-like stacks of b15: ms (fastest of
+//! `--repeat`), simulation steps, simulated time, and how far the settled blocks end from their
+//! intended poses (mm, degrees), with the verdict.
+
+use super::fastest_ms;
+use super::machine::banner;
+use super::scale::grid_stack;
+use anyhow::Context;
+use blockworld::geom::DVec3;
+use blockworld::physics::{settle, SettleParams};
+use blockworld::scene::{Block, Scene};
+
+/// Options of `blockworld bench settle`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Settle each scene this many times and keep the fastest.
+    #[arg(long, default_value_t = 20)]
+    pub repeat: usize,
+    /// Also cube-like stacks of this many b15 (as in `bench scale`), comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "10,100,1000")]
+    pub grid: Vec<usize>,
+}
+
+/// The peer benchmark's 12 cuboids (README "Benchmarks"): a two-layer stack of two b30 and two
+/// b15 bridged by a b30 and a b15, two two-high columns of b7_5 and a two-high b15 tower. The
+/// peer's table is z-up (x, y, z); here +y is up, so its (x, y, z) becomes (x, z, -y): the same
+/// stack turned, not mirrored.
+pub fn peer_stack() -> Scene {
+    const BLOCKS: [(&str, f64, f64, f64); 12] = [
+        ("b30", 15.0, 7.5, 7.5),
+        ("b30", 15.0, 22.5, 7.5),
+        ("b15", 37.5, 7.5, 7.5),
+        ("b15", 37.5, 22.5, 7.5),
+        ("b7_5", 52.5, 7.5, 3.75),
+        ("b7_5", 52.5, 22.5, 3.75),
+        ("b15", 7.5, 45.0, 7.5),
+        ("b30", 15.0, 15.0, 22.5),
+        ("b15", 37.5, 15.0, 22.5),
+        ("b7_5", 52.5, 7.5, 11.25),
+        ("b7_5", 52.5, 22.5, 11.25),
+        ("b15", 7.5, 45.0, 22.5),
+    ];
+    let blocks = BLOCKS
+        .iter()
+        .map(|&(id, x, y, z)| Block::new(id, DVec3::new(x, z, -y), 0.0))
+        .collect();
+    Scene::new("peer_stack_12", blocks)
+}
+
+/// One table row for `scene`.
+fn row(scene: &Scene, repeat: usize) -> anyhow::Result<String> {
+    let params = SettleParams::default();
+    let (ms, settled) = fastest_ms(repeat, || settle(scene, &params));
+    let r = settled.with_context(|| format!("settling {}", scene.name))?.report;
+    Ok(format!(
+        "| {} | {} | {ms:.2} | {} | {:.0} | {:.4} | {:.4} | {} |",
+        scene.name,
+        scene.blocks.len(),
+        r.steps,
+        f64::from(r.steps) * params.dt_s * 1e3,
+        r.max_drift_mm,
+        r.max_turn_deg,
+        if r.stable { "stable" } else { "unstable" }
+    ))
+}
+
+/// Runs `blockworld bench settle`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    outln!("{}", banner(None).trim_end())?;
+    let p = SettleParams::default();
+    outln!(
+        "rest: every body below {} mm/s and {} rad/s for {} s simulated (1/{:.0} s steps); ms = fastest of {}, one thread",
+        p.rest_speed_mm_s,
+        p.rest_spin_rad_s,
+        p.rest_hold_s,
+        1.0 / p.dt_s,
+        args.repeat.max(1)
+    )?;
+    outln!("| scene | blocks | ms | steps | simulated ms | max drift mm | max turn deg | verdict |")?;
+    outln!("|---|---|---|---|---|---|---|---|")?;
+    outln!("{}", row(&peer_stack(), args.repeat)?)?;
+    for &n in &args.grid {
+        let repeat = if n >= 100 { 1 } else { args.repeat };
+        outln!("{}", row(&grid_stack(n), repeat)?)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_peer_stack_is_a_valid_twelve_block_scene() {
+        let s = peer_stack();
+        assert_eq!(s.blocks.len(), 12);
+        s.validate("peer_stack").unwrap();
+        // Two layers: six floor blocks of 15 mm, the b7_5 columns in between.
+        let top = s.blocks.iter().map(|b| b.center_mm.y).fold(0.0, f64::max);
+        assert_eq!(top, 22.5);
+    }
+}
