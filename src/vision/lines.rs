@@ -531,13 +531,10 @@ fn lines_from_votes(
     let (grouped, starts) = group_by_peak(&votes, &peaks, band, rho_min, bins);
     let mut out = Vec::new();
     let mut points = Vec::new();
-    let mut order: Vec<(f64, u32)> = Vec::new();
+    let mut along = SortAlong::default();
     for range in starts.windows(2) {
         let g = &grouped[range[0]..range[1]];
-        // Along the line; equal positions keep their order (what a stable sort by `t` gives).
-        order.clear();
-        order.extend(g.iter().enumerate().map(|(i, v)| (v.t, i as u32)));
-        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let order = along.sort(g);
         let mut start = 0;
         for i in 1..=order.len() {
             if i == order.len() || order[i].0 - order[i - 1].0 > opts.max_gap_px {
@@ -611,6 +608,68 @@ fn group_by_peak(
         }
     }
     (grouped, starts)
+}
+
+/// Orders a peak's votes along the line: `(t, index)` pairs sorted by `t`, equal positions in
+/// their original order (what a stable sort by `t` gives). Votes lie on a raster, a few per
+/// pixel of length, so they are spread into 1 px buckets by counting (`t - t_min` truncated,
+/// which keeps the order of `t`) and each bucket is put in order by insertion; a comparison sort
+/// orders what does not fit that (non-finite or sparse positions).
+#[derive(Default)]
+struct SortAlong {
+    keys: Vec<(f64, u32)>,
+    spread: Vec<(f64, u32)>,
+    starts: Vec<u32>,
+}
+
+impl SortAlong {
+    fn sort(&mut self, g: &[Vote]) -> &[(f64, u32)] {
+        self.keys.clear();
+        self.keys
+            .extend(g.iter().enumerate().map(|(i, v)| (v.t, i as u32)));
+        let (lo, hi) = self
+            .keys
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), k| {
+                (lo.min(k.0), hi.max(k.0))
+            });
+        let n = self.keys.len();
+        if n < 2 || !(lo.is_finite() && hi.is_finite()) || hi - lo > (4 * n + 64) as f64 {
+            self.keys
+                .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            return &self.keys;
+        }
+        let buckets = (hi - lo) as usize + 1;
+        self.starts.clear();
+        self.starts.resize(buckets + 1, 0);
+        for k in &self.keys {
+            self.starts[(k.0 - lo) as usize + 1] += 1;
+        }
+        for b in 0..buckets {
+            self.starts[b + 1] += self.starts[b];
+        }
+        self.spread.clear();
+        self.spread.resize(n, (0.0, 0));
+        for k in &self.keys {
+            let slot = &mut self.starts[(k.0 - lo) as usize];
+            self.spread[*slot as usize] = *k;
+            *slot += 1;
+        }
+        insertion_sort_by_t(&mut self.spread);
+        &self.spread
+    }
+}
+
+/// Stable insertion sort by `t` (`total_cmp`): cheap on the bucketed votes, where every vote is
+/// at most a bucket away from its place.
+fn insertion_sort_by_t(keys: &mut [(f64, u32)]) {
+    for i in 1..keys.len() {
+        let mut j = i;
+        while j > 0 && keys[j - 1].0.total_cmp(&keys[j].0).is_gt() {
+            keys.swap(j - 1, j);
+            j -= 1;
+        }
+    }
 }
 
 /// How many peaks lie below an offset (`partition_point(|r| r < rho)`), found from a table of
@@ -938,6 +997,37 @@ mod tests {
             assert!(!linear.inside(0, 0) && linear.inside(w / 2, h / 2));
         }
         assert!(agree > 20 && agree < inside, "{agree} of {inside}");
+    }
+
+    #[test]
+    fn votes_are_ordered_along_the_line_like_a_stable_sort() {
+        let raw = speckle(64, 1, 3);
+        let vote = |t: f64| Vote {
+            rho: 0.0,
+            t,
+            p: DVec2::ZERO,
+        };
+        // Raster-like positions with many ties, a sparse set (comparison sort) and a NaN.
+        let dense: Vec<Vote> = (0..300)
+            .map(|i| vote(f64::from((i * 37) % 101) * 0.5 - 7.25 + f64::from(raw[i as usize % 64])))
+            .collect();
+        let sparse: Vec<Vote> = [5e6, -3.0, 1e7, -3.0, 0.5].map(vote).to_vec();
+        let odd: Vec<Vote> = [2.0, f64::NAN, 1.0, 2.0].map(vote).to_vec();
+        let mut along = SortAlong::default();
+        for g in [&dense, &sparse, &odd, &Vec::new()] {
+            let mut want: Vec<(f64, u32)> =
+                g.iter().enumerate().map(|(i, v)| (v.t, i as u32)).collect();
+            want.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let got = along.sort(g);
+            assert_eq!(got.len(), want.len());
+            for (a, b) in got.iter().zip(&want) {
+                assert!(a.0.to_bits() == b.0.to_bits() && a.1 == b.1, "{got:?}");
+            }
+        }
+        // It can fail: the insertion pass is what orders a bucket.
+        let mut keys = vec![(1.5, 0), (1.25, 1), (1.5, 2)];
+        insertion_sort_by_t(&mut keys);
+        assert_eq!(keys, vec![(1.25, 1), (1.5, 0), (1.5, 2)]);
     }
 
     #[test]
