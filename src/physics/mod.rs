@@ -151,7 +151,11 @@ pub fn settle(scene: &Scene, params: &SettleParams) -> Result<Settled, PhysicsEr
     while !at_rest && steps < max_steps {
         world.world.step();
         steps += 1;
-        calm_steps = if world.all_calm(params) { calm_steps + 1 } else { 0 };
+        calm_steps = if world.all_calm(params) {
+            calm_steps + 1
+        } else {
+            0
+        };
         at_rest = calm_steps >= hold_steps;
     }
     let poses = world.block_poses_mm();

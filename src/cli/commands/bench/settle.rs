@@ -53,7 +53,9 @@ pub fn peer_stack() -> Scene {
 fn row(scene: &Scene, repeat: usize) -> anyhow::Result<String> {
     let params = SettleParams::default();
     let (ms, settled) = fastest_ms(repeat, || settle(scene, &params));
-    let r = settled.with_context(|| format!("settling {}", scene.name))?.report;
+    let r = settled
+        .with_context(|| format!("settling {}", scene.name))?
+        .report;
     Ok(format!(
         "| {} | {} | {ms:.2} | {} | {:.0} | {:.4} | {:.4} | {} |",
         scene.name,
@@ -78,7 +80,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         1.0 / p.dt_s,
         args.repeat.max(1)
     )?;
-    outln!("| scene | blocks | ms | steps | simulated ms | max drift mm | max turn deg | verdict |")?;
+    outln!(
+        "| scene | blocks | ms | steps | simulated ms | max drift mm | max turn deg | verdict |"
+    )?;
     outln!("|---|---|---|---|---|---|---|---|")?;
     outln!("{}", row(&peer_stack(), args.repeat)?)?;
     for &n in &args.grid {
