@@ -450,18 +450,14 @@ impl LinearSteps {
             && r + self.margin_row < self.h
     }
 
+    /// Counts every miss without stopping early (no branch on the map's data to mispredict).
     fn supports(&self, edges: &[u8], col: u32, row: u32, max_misses: u32) -> bool {
         let at = i64::from(row) * self.w + i64::from(col);
-        let mut misses = 0;
-        for &o in &self.offsets[..self.len] {
-            if edges[(at + o) as usize] == 0 {
-                misses += 1;
-                if misses > max_misses {
-                    return false;
-                }
-            }
-        }
-        true
+        let misses: u32 = self.offsets[..self.len]
+            .iter()
+            .map(|&o| u32::from(edges[(at + o) as usize] == 0))
+            .sum();
+        misses <= max_misses
     }
 }
 
@@ -860,11 +856,8 @@ fn refine_one(
         }
     }
     // Seam pixels must cover at least half the line (counted along it, one per px).
-    let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
-    along.sort_unstable();
-    along.dedup();
     let sampled = l.length_px() - 2.0 * (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
-    if (along.len() as f64) < 0.5 * sampled {
+    if (distinct_along_px(l, pts) as f64) < 0.5 * sampled {
         return None;
     }
     let (c, mut dir) = fit_line_weighted(pts, weights)?;
@@ -882,6 +875,27 @@ fn refine_one(
         to_px: project(l.to_px),
         ..*l
     })
+}
+
+/// How many distinct whole pixels along `l` (`along_px` rounded) the points `pts` fall on:
+/// marked in a table over their range (they span the line's length), or sorted when the range
+/// is out of proportion to their number.
+fn distinct_along_px(l: &FittedLine, pts: &[DVec2]) -> usize {
+    let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
+    let (lo, hi) = along
+        .iter()
+        .fold((i64::MAX, i64::MIN), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    let span = hi.saturating_sub(lo);
+    if along.is_empty() || span < 0 || span as u64 > 4 * along.len() as u64 + 64 {
+        along.sort_unstable();
+        along.dedup();
+        return along.len();
+    }
+    let mut seen = vec![false; span as usize + 1];
+    along
+        .iter()
+        .filter(|&&a| !std::mem::replace(&mut seen[(a - lo) as usize], true))
+        .count()
 }
 
 /// Weighted total least squares: centroid and unit direction.
@@ -1028,6 +1042,36 @@ mod tests {
         let mut keys = vec![(1.5, 0), (1.25, 1), (1.5, 2)];
         insertion_sort_by_t(&mut keys);
         assert_eq!(keys, vec![(1.25, 1), (1.5, 0), (1.5, 2)]);
+    }
+
+    #[test]
+    fn distinct_pixels_along_a_line_are_counted_once() {
+        let l = FittedLine {
+            axis: EdgeAxis::Vertical,
+            centroid_px: DVec2::new(10.0, 0.0),
+            direction: DVec2::Y,
+            from_px: DVec2::new(10.0, -50.0),
+            to_px: DVec2::new(10.0, 50.0),
+            support: 0,
+            rms_px: 0.0,
+        };
+        // Several points per pixel along the line, on both sides of it.
+        let pts: Vec<DVec2> = (0..90)
+            .map(|i| DVec2::new(9.0 + f64::from(i % 3), f64::from(i / 3) * 0.75 - 20.0))
+            .collect();
+        let mut plain: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
+        plain.sort_unstable();
+        plain.dedup();
+        assert_eq!(distinct_along_px(&l, &pts), plain.len());
+        assert!(plain.len() < pts.len());
+        // Far apart (the sorted path) and none.
+        let far = [
+            DVec2::new(10.0, -1e6),
+            DVec2::new(10.0, 1e6),
+            DVec2::new(10.0, 1e6),
+        ];
+        assert_eq!(distinct_along_px(&l, &far), 2);
+        assert_eq!(distinct_along_px(&l, &[]), 0);
     }
 
     #[test]
