@@ -21,6 +21,13 @@ pub struct Args {
     /// Also cube-like stacks of this many b15 (as in `bench scale`), comma separated.
     #[arg(long, value_delimiter = ',', default_value = "10,100,1000")]
     pub grid: Vec<usize>,
+    /// A Python with `pybullet` installed: also settle the 12-block stack in PyBullet (the peer
+    /// pipeline's settings, `scripts/pybullet_settle.py`) in this run and print the ratio.
+    #[arg(long)]
+    pub pybullet: Option<std::path::PathBuf>,
+    /// The PyBullet script `--pybullet` runs.
+    #[arg(long, default_value = "scripts/pybullet_settle.py")]
+    pub pybullet_script: std::path::PathBuf,
 }
 
 /// The peer benchmark's 12 cuboids (README "Benchmarks"): a two-layer stack of two b30 and two
@@ -49,14 +56,14 @@ pub fn peer_stack() -> Scene {
     Scene::new("peer_stack_12", blocks)
 }
 
-/// One table row for `scene`.
-fn row(scene: &Scene, repeat: usize) -> anyhow::Result<String> {
+/// One table row for `scene`, and its ms.
+fn row(scene: &Scene, repeat: usize) -> anyhow::Result<(String, f64)> {
     let params = SettleParams::default();
     let (ms, settled) = fastest_ms(repeat, || settle(scene, &params));
     let r = settled
         .with_context(|| format!("settling {}", scene.name))?
         .report;
-    Ok(format!(
+    let text = format!(
         "| {} | {} | {ms:.2} | {} | {:.0} | {:.4} | {:.4} | {} |",
         scene.name,
         scene.blocks.len(),
@@ -65,7 +72,57 @@ fn row(scene: &Scene, repeat: usize) -> anyhow::Result<String> {
         r.max_drift_mm,
         r.max_turn_deg,
         if r.stable { "stable" } else { "unstable" }
-    ))
+    );
+    Ok((text, ms))
+}
+
+/// The stack as the PyBullet script reads it: centres and half extents, mm, +y up.
+fn pybullet_input(scene: &Scene) -> anyhow::Result<String> {
+    let blocks = scene
+        .blocks
+        .iter()
+        .map(|b| {
+            let half = b.block_type.cuboid_half_extents_mm().with_context(|| {
+                format!(
+                    "{} is not a cuboid; the PyBullet peer takes cuboids",
+                    b.block_type.id
+                )
+            })?;
+            Ok(serde_json::json!({"center_mm": b.center_mm.to_array(), "half_mm": half.to_array()}))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    Ok(serde_json::json!({ "blocks": blocks }).to_string())
+}
+
+/// Runs the PyBullet script on the 12-block stack; its JSON answer.
+fn pybullet_peer(args: &Args, python: &std::path::Path) -> anyhow::Result<serde_json::Value> {
+    use std::io::Write;
+    let mut child = std::process::Command::new(python)
+        .arg(&args.pybullet_script)
+        .args(["--repeat", &args.repeat.max(1).to_string()])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .with_context(|| format!("running {} (--pybullet)", python.display()))?;
+    let input = pybullet_input(&peer_stack())?;
+    child
+        .stdin
+        .take()
+        .context("the PyBullet script's stdin")?
+        .write_all(input.as_bytes())?;
+    let out = child.wait_with_output()?;
+    anyhow::ensure!(
+        out.status.success(),
+        "{} {} failed ({}); install pybullet in that Python or drop --pybullet",
+        python.display(),
+        args.pybullet_script.display(),
+        String::from_utf8_lossy(&out.stderr).trim()
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let last = text.lines().last().unwrap_or_default();
+    serde_json::from_str(last)
+        .with_context(|| format!("reading the PyBullet script's answer {last:?}"))
 }
 
 /// Runs `blockworld bench settle`.
@@ -84,10 +141,34 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "| scene | blocks | ms | steps | simulated ms | max drift mm | max turn deg | verdict |"
     )?;
     outln!("|---|---|---|---|---|---|---|---|")?;
-    outln!("{}", row(&peer_stack(), args.repeat)?)?;
+    let (text, ours_ms) = row(&peer_stack(), args.repeat)?;
+    outln!("{text}")?;
+    let peer = match &args.pybullet {
+        Some(python) => Some(pybullet_peer(&args, python)?),
+        None => None,
+    };
+    if let Some(v) = &peer {
+        let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        outln!(
+            "| peer_stack_12 in PyBullet (240 Hz, its rest test, 1 mm drop gap) | 12 | {:.2} | {} | {:.0} | {:.4} | {:.4} | {} |",
+            num("ms"),
+            v["steps"],
+            num("steps") / 240.0 * 1e3,
+            num("max_drift_mm"),
+            num("max_turn_deg"),
+            if v["at_rest"] == true { "at rest" } else { "moving" }
+        )?;
+    }
     for &n in &args.grid {
         let repeat = if n >= 100 { 1 } else { args.repeat };
-        outln!("{}", row(&grid_stack(n), repeat)?)?;
+        outln!("{}", row(&grid_stack(n), repeat)?.0)?;
+    }
+    if let Some(v) = &peer {
+        let peer_ms = v["ms"].as_f64().unwrap_or(f64::NAN);
+        outln!(
+            "12-block stack: blockworld {ours_ms:.2} ms, PyBullet {peer_ms:.2} ms: {:.1}x (target 10x)",
+            peer_ms / ours_ms
+        )?;
     }
     Ok(())
 }
@@ -104,5 +185,16 @@ mod tests {
         // Two layers: six floor blocks of 15 mm, the b7_5 columns in between.
         let top = s.blocks.iter().map(|b| b.center_mm.y).fold(0.0, f64::max);
         assert_eq!(top, 22.5);
+    }
+
+    #[test]
+    fn the_pybullet_input_lists_centres_and_half_extents() {
+        let v: serde_json::Value =
+            serde_json::from_str(&pybullet_input(&peer_stack()).unwrap()).unwrap();
+        let blocks = v["blocks"].as_array().unwrap();
+        assert_eq!(blocks.len(), 12);
+        assert_eq!(blocks[0]["center_mm"], serde_json::json!([15.0, 7.5, -7.5]));
+        assert_eq!(blocks[0]["half_mm"], serde_json::json!([15.0, 7.5, 7.5]));
+        assert_eq!(blocks[4]["half_mm"], serde_json::json!([7.5, 3.75, 7.5]));
     }
 }
