@@ -35,13 +35,13 @@ pub struct SettleReport {
     pub blocks: Vec<BlockReport>,
     /// Simulation steps taken.
     pub steps: u32,
-    /// Every body fell asleep before the time limit.
-    pub asleep: bool,
+    /// The stack came to rest (`SettleParams`'s rest criterion) before the time limit.
+    pub at_rest: bool,
     /// Largest `drift_mm` over the blocks (0 for an empty scene).
     pub max_drift_mm: f64,
     /// Largest `turn_deg` over the blocks.
     pub max_turn_deg: f64,
-    /// All blocks stable and all asleep.
+    /// All blocks stable and the stack at rest.
     pub stable: bool,
 }
 
@@ -51,7 +51,7 @@ impl SettleReport {
         scene: &Scene,
         poses: &[(DVec3, DQuat)],
         steps: u32,
-        asleep: bool,
+        at_rest: bool,
         params: &SettleParams,
     ) -> SettleReport {
         let blocks: Vec<BlockReport> = scene
@@ -72,11 +72,11 @@ impl SettleReport {
             .collect();
         let max_drift_mm = blocks.iter().map(|b| b.drift_mm).fold(0.0, f64::max);
         let max_turn_deg = blocks.iter().map(|b| b.turn_deg).fold(0.0, f64::max);
-        let stable = asleep && blocks.iter().all(|b| b.is_stable(params));
+        let stable = at_rest && blocks.iter().all(|b| b.is_stable(params));
         SettleReport {
             blocks,
             steps,
-            asleep,
+            at_rest,
             max_drift_mm,
             max_turn_deg,
             stable,
@@ -109,7 +109,7 @@ impl SettleReport {
                 )
             })
             .collect();
-        if !self.asleep {
+        if !self.at_rest {
             lines.push(format!(
                 "bodies still moving after {} steps (time limit)",
                 self.steps

@@ -28,7 +28,7 @@ fn overhanging() -> Scene {
 fn a_two_layer_stack_is_stable_and_snapped_back() {
     let s = settle(&two_layer(), &SettleParams::default()).unwrap();
     assert!(s.report.stable, "{:?}", s.report);
-    assert!(s.report.asleep);
+    assert!(s.report.at_rest);
     // rapier leaves the blocks a little into their supports, but well inside the tolerance.
     assert!(
         s.report.max_drift_mm > 0.0 && s.report.max_drift_mm < 0.2,
@@ -253,4 +253,52 @@ fn a_round_part_settles_as_a_cylinder() {
     let s = settle(&scene, &params).unwrap();
     assert!(s.report.stable, "{:?}", s.report);
     assert!(s.report.blocks[1].touches_floor);
+}
+
+#[test]
+fn a_stack_stops_after_the_rest_hold_not_a_sleep_timer() {
+    let params = SettleParams::default();
+    let hold_steps = (params.rest_hold_s / params.dt_s).ceil() as u32;
+    let s = settle(&two_layer(), &params).unwrap();
+    assert!(s.report.at_rest && s.report.stable, "{:?}", s.report);
+    // The drop (2 layers of 0.05 mm) and the landing take a few steps, then the hold.
+    assert!(
+        s.report.steps >= hold_steps && s.report.steps < hold_steps + 10,
+        "{:?}",
+        s.report
+    );
+    // A longer hold simulates longer and comes to the same verdict and nearly the same drift.
+    let long = SettleParams {
+        rest_hold_s: 0.5,
+        ..params
+    };
+    let l = settle(&two_layer(), &long).unwrap();
+    assert!(l.report.stable && l.report.steps >= 120, "{:?}", l.report);
+    assert!((l.report.max_drift_mm - s.report.max_drift_mm).abs() < 0.01);
+}
+
+#[test]
+fn a_scene_still_moving_at_the_time_limit_is_not_at_rest() {
+    let scene = Scene::new(
+        "floating",
+        vec![Block::new("b15", DVec3::new(0.0, 27.5, 0.0), 0.0)],
+    );
+    // 0.05 s of free fall from 20 mm: the block is still falling when time is up.
+    let params = SettleParams {
+        max_time_s: 0.05,
+        ..SettleParams::default()
+    };
+    let s = settle(&scene, &params).unwrap();
+    assert!(!s.report.at_rest && !s.report.stable, "{:?}", s.report);
+    assert_eq!(s.report.steps, 12);
+    let text = s.report.describe_moved(&scene, &params);
+    assert!(text.contains("still moving after 12 steps"), "{text}");
+}
+
+#[test]
+fn a_block_tipping_over_an_edge_is_never_at_rest_early() {
+    // The overhanging b15 starts at rest; the criterion must not stop before it has tipped.
+    let s = settle(&overhanging(), &SettleParams::default()).unwrap();
+    assert!(s.report.steps > 30, "{:?}", s.report);
+    assert!(s.report.blocks[1].turn_deg > 10.0, "{:?}", s.report);
 }

@@ -237,6 +237,15 @@ pub fn fit_line_least_squares(points: &[DVec2]) -> Option<(DVec2, DVec2, f64)> {
     Some((c, dir, (ss / n).sqrt()))
 }
 
+/// `x.floor()` as an integer (saturating at the ends of `i64`, 0 for NaN, like `as i64`),
+/// without the library call `f64::floor` compiles to on baseline x86-64: it runs for every
+/// pixel sampled near a line.
+#[inline(always)]
+fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    t.saturating_sub(i64::from((t as f64) > x))
+}
+
 /// One supporting pixel: offset across and position along its direction, and its picture point.
 #[derive(Clone, Copy)]
 struct Vote {
@@ -369,25 +378,31 @@ fn collect_votes(
 ) -> Vec<Vote> {
     let mut steps = [(0i64, 0i64); MAX_REACH_PX];
     let mut n_steps = 0;
+    let mut linear = None;
     if let EdgeDirection::Parallel(u) = frame.dir {
         n_steps = raster_steps(u, opts.reach_px, &mut steps);
+        linear = Some(LinearSteps::new(&steps[..n_steps], w, h));
     }
-    let mut votes = Vec::new();
+    let mut votes = Vec::with_capacity(edge_px.len());
     let (wi, hi) = (i64::from(w), i64::from(h));
     for &(col, row) in edge_px {
         let p = picture_from_raster(col, row, h);
         if let EdgeDirection::Vanishing(_) = frame.dir {
             n_steps = raster_steps(frame.dir.at(p), opts.reach_px, &mut steps);
         }
-        if supports(
-            raw,
-            wi,
-            hi,
-            i64::from(col),
-            i64::from(row),
-            &steps[..n_steps],
-            opts.max_misses,
-        ) {
+        let supported = match &linear {
+            Some(l) if l.inside(col, row) => l.supports(raw, col, row, opts.max_misses),
+            _ => supports(
+                raw,
+                wi,
+                hi,
+                i64::from(col),
+                i64::from(row),
+                &steps[..n_steps],
+                opts.max_misses,
+            ),
+        };
+        if supported {
             let (rho, t) = frame.dir.vote_coordinates(p, frame.axis, frame.radius);
             votes.push(Vote { rho, t, p });
         }
@@ -395,12 +410,64 @@ fn collect_votes(
     votes
 }
 
+/// [`supports`] for one parallel direction with its steps turned into offsets in the raster,
+/// for the pixels whose every checked neighbour lies inside the picture (all but a thin
+/// border): no per-neighbour bounds test, the same answer (the misses are counted the same).
+struct LinearSteps {
+    /// `+-(drow * w + dcol)` for each step, both signs.
+    offsets: [i64; 2 * MAX_REACH_PX],
+    len: usize,
+    w: i64,
+    /// Columns `margin_col..w - margin_col` and rows `margin_row..h - margin_row` qualify.
+    margin_col: i64,
+    margin_row: i64,
+    h: i64,
+}
+
+impl LinearSteps {
+    fn new(steps: &[(i64, i64)], w: u32, h: u32) -> LinearSteps {
+        let (w, h) = (i64::from(w), i64::from(h));
+        let mut offsets = [0i64; 2 * MAX_REACH_PX];
+        for (i, &(dc, dr)) in steps.iter().enumerate() {
+            offsets[2 * i] = dr * w + dc;
+            offsets[2 * i + 1] = -(dr * w + dc);
+        }
+        LinearSteps {
+            offsets,
+            len: 2 * steps.len(),
+            w,
+            margin_col: steps.iter().map(|s| s.0.abs()).max().unwrap_or(0),
+            margin_row: steps.iter().map(|s| s.1.abs()).max().unwrap_or(0),
+            h,
+        }
+    }
+
+    fn inside(&self, col: u32, row: u32) -> bool {
+        let (c, r) = (i64::from(col), i64::from(row));
+        c >= self.margin_col
+            && c + self.margin_col < self.w
+            && r >= self.margin_row
+            && r + self.margin_row < self.h
+    }
+
+    /// Counts every miss without stopping early (no branch on the map's data to mispredict).
+    fn supports(&self, edges: &[u8], col: u32, row: u32, max_misses: u32) -> bool {
+        let at = i64::from(row) * self.w + i64::from(col);
+        let misses: u32 = self.offsets[..self.len]
+            .iter()
+            .map(|&o| u32::from(edges[(at + o) as usize] == 0))
+            .sum();
+        misses <= max_misses
+    }
+}
+
 /// Peaks of the offset histogram (1 px bins, summed over 3 neighbouring bins), with
 /// non-maximum suppression over `peak_separation_px`.
 fn vote_peaks(votes: &[Vote], rho_min: f64, bins: usize, opts: &LineOptions) -> Vec<f64> {
     let mut hist = vec![0u32; bins];
     for v in votes {
-        let b = ((v.rho - rho_min).floor() as usize).min(bins - 1);
+        // `rho - rho_min` is at least 2, so truncating is flooring.
+        let b = ((v.rho - rho_min) as usize).min(bins - 1);
         hist[b] += 1;
     }
     let boxed: Vec<u32> = (0..bins)
@@ -456,38 +523,24 @@ fn lines_from_votes(
     if peaks.is_empty() {
         return Vec::new();
     }
-    // Each pixel joins its nearest peak within the band.
-    let mut groups: Vec<Vec<Vote>> = vec![Vec::new(); peaks.len()];
-    for v in votes {
-        let i = peaks.partition_point(|&r| r < v.rho);
-        let best = [i.wrapping_sub(1), i]
-            .into_iter()
-            .filter(|&j| j < peaks.len())
-            .min_by(|&a, &b| {
-                (peaks[a] - v.rho)
-                    .abs()
-                    .total_cmp(&(peaks[b] - v.rho).abs())
-            });
-        if let Some(j) = best {
-            if (peaks[j] - v.rho).abs() <= opts.band_half_width_px {
-                groups[j].push(v);
-            }
-        }
-    }
+    let band = opts.band_half_width_px;
+    let (grouped, starts) = group_by_peak(&votes, &peaks, band, rho_min, bins);
     let mut out = Vec::new();
     let mut points = Vec::new();
-    for mut g in groups {
-        g.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let mut along = SortAlong::default();
+    for range in starts.windows(2) {
+        let g = &grouped[range[0]..range[1]];
+        let order = along.sort(g);
         let mut start = 0;
-        for i in 1..=g.len() {
-            if i == g.len() || g[i].t - g[i - 1].t > opts.max_gap_px {
-                let run = &g[start..i];
+        for i in 1..=order.len() {
+            if i == order.len() || order[i].0 - order[i - 1].0 > opts.max_gap_px {
+                let run = &order[start..i];
                 start = i;
-                if run.is_empty() || run[run.len() - 1].t - run[0].t < opts.min_length_px {
+                if run.is_empty() || run[run.len() - 1].0 - run[0].0 < opts.min_length_px {
                     continue;
                 }
                 points.clear();
-                points.extend(run.iter().map(|v| v.p));
+                points.extend(run.iter().map(|&(_, j)| g[j as usize].p));
                 let centroid = points.iter().fold(DVec2::ZERO, |a, p| a + *p) / points.len() as f64;
                 let u = frame.dir.at(centroid);
                 if let Some(line) = fit_segment(&points, k, u, opts.max_turn_deg) {
@@ -497,6 +550,163 @@ fn lines_from_votes(
         }
     }
     out
+}
+
+/// Each vote joins its nearest peak when within `band` of it: the votes of peak `j`, in their
+/// original order, are `grouped[starts[j]..starts[j + 1]]` (one array filled by counting, not
+/// one growing vector per peak).
+fn group_by_peak(
+    votes: &[Vote],
+    peaks: &[f64],
+    band: f64,
+    rho_min: f64,
+    bins: usize,
+) -> (Vec<Vote>, Vec<usize>) {
+    let below = PeaksBelow::new(peaks, rho_min, bins);
+    let owner: Vec<usize> = votes
+        .iter()
+        .map(|v| {
+            let i = below.count(peaks, v.rho);
+            let best = [i.wrapping_sub(1), i]
+                .into_iter()
+                .filter(|&j| j < peaks.len())
+                .min_by(|&a, &b| {
+                    (peaks[a] - v.rho)
+                        .abs()
+                        .total_cmp(&(peaks[b] - v.rho).abs())
+                });
+            match best {
+                Some(j) if (peaks[j] - v.rho).abs() <= band => j,
+                _ => usize::MAX,
+            }
+        })
+        .collect();
+    let mut starts = vec![0usize; peaks.len() + 1];
+    for &j in owner.iter().filter(|&&j| j != usize::MAX) {
+        starts[j + 1] += 1;
+    }
+    for j in 0..peaks.len() {
+        starts[j + 1] += starts[j];
+    }
+    let mut next = starts.clone();
+    let mut grouped = vec![
+        Vote {
+            rho: 0.0,
+            t: 0.0,
+            p: DVec2::ZERO
+        };
+        starts[peaks.len()]
+    ];
+    for (v, &j) in votes.iter().zip(&owner) {
+        if j != usize::MAX {
+            grouped[next[j]] = *v;
+            next[j] += 1;
+        }
+    }
+    (grouped, starts)
+}
+
+/// Orders a peak's votes along the line: `(t, index)` pairs sorted by `t`, equal positions in
+/// their original order (what a stable sort by `t` gives). Votes lie on a raster, a few per
+/// pixel of length, so they are spread into 1 px buckets by counting (`t - t_min` truncated,
+/// which keeps the order of `t`) and each bucket is put in order by insertion; a comparison sort
+/// orders what does not fit that (non-finite or sparse positions).
+#[derive(Default)]
+struct SortAlong {
+    keys: Vec<(f64, u32)>,
+    spread: Vec<(f64, u32)>,
+    starts: Vec<u32>,
+}
+
+impl SortAlong {
+    fn sort(&mut self, g: &[Vote]) -> &[(f64, u32)] {
+        self.keys.clear();
+        self.keys
+            .extend(g.iter().enumerate().map(|(i, v)| (v.t, i as u32)));
+        let (lo, hi) = self
+            .keys
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), k| {
+                (lo.min(k.0), hi.max(k.0))
+            });
+        let n = self.keys.len();
+        if n < 2 || !(lo.is_finite() && hi.is_finite()) || hi - lo > (4 * n + 64) as f64 {
+            self.keys
+                .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            return &self.keys;
+        }
+        let buckets = (hi - lo) as usize + 1;
+        self.starts.clear();
+        self.starts.resize(buckets + 1, 0);
+        for k in &self.keys {
+            self.starts[(k.0 - lo) as usize + 1] += 1;
+        }
+        for b in 0..buckets {
+            self.starts[b + 1] += self.starts[b];
+        }
+        self.spread.clear();
+        self.spread.resize(n, (0.0, 0));
+        for k in &self.keys {
+            let slot = &mut self.starts[(k.0 - lo) as usize];
+            self.spread[*slot as usize] = *k;
+            *slot += 1;
+        }
+        insertion_sort_by_t(&mut self.spread);
+        &self.spread
+    }
+}
+
+/// Stable insertion sort by `t` (`total_cmp`): cheap on the bucketed votes, where every vote is
+/// at most a bucket away from its place.
+fn insertion_sort_by_t(keys: &mut [(f64, u32)]) {
+    for i in 1..keys.len() {
+        let mut j = i;
+        while j > 0 && keys[j - 1].0.total_cmp(&keys[j].0).is_gt() {
+            keys.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// How many peaks lie below an offset (`partition_point(|r| r < rho)`), found from a table of
+/// the count below each 1 px bin's start and a step or two from there instead of a binary
+/// search per vote; the same count, since the peaks are sorted (checked; unsorted peaks, which
+/// odd options could give, are searched).
+struct PeaksBelow {
+    /// Peaks below `rho_min + b` for each bin `b`; empty when the peaks are not sorted.
+    at_bin: Vec<usize>,
+    rho_min: f64,
+}
+
+impl PeaksBelow {
+    fn new(peaks: &[f64], rho_min: f64, bins: usize) -> PeaksBelow {
+        let mut at_bin = Vec::new();
+        if peaks.windows(2).all(|p| p[0] <= p[1]) {
+            let mut i = 0;
+            at_bin.extend((0..bins).map(|b| {
+                while i < peaks.len() && peaks[i] < rho_min + b as f64 {
+                    i += 1;
+                }
+                i
+            }));
+        }
+        PeaksBelow { at_bin, rho_min }
+    }
+
+    fn count(&self, peaks: &[f64], rho: f64) -> usize {
+        if self.at_bin.is_empty() {
+            return peaks.partition_point(|&r| r < rho);
+        }
+        let b = ((rho - self.rho_min) as usize).min(self.at_bin.len() - 1);
+        let mut i = self.at_bin[b];
+        while i > 0 && peaks[i - 1] >= rho {
+            i -= 1;
+        }
+        while i < peaks.len() && peaks[i] < rho {
+            i += 1;
+        }
+        i
+    }
 }
 
 fn fit_segment(points: &[DVec2], k: EdgeAxis, u: DVec2, max_turn_deg: f64) -> Option<FittedLine> {
@@ -565,8 +775,8 @@ const SEAM_SIDE_PX: f64 = 2.0;
 /// Gray level at picture point `p` (nearest pixel), `None` outside the picture.
 fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
     let (w, h) = gray.dimensions();
-    let (x, y) = (p.x.floor(), p.y.floor());
-    if x < 0.0 || y < 0.0 || x >= f64::from(w) || y >= f64::from(h) {
+    let (x, y) = (floor_i64(p.x), floor_i64(p.y));
+    if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
         return None;
     }
     let row = h as usize - 1 - y as usize;
@@ -596,7 +806,7 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
         l.direction.x.abs()
     };
     let half = (reach / slope_room.max(0.3)).ceil() as i64 + 1;
-    let mut s = lo.floor() as i64;
+    let mut s = floor_i64(lo);
     while (s as f64) <= hi.ceil() {
         let s_c = s as f64 + 0.5;
         // Where the line crosses this row/column.
@@ -605,7 +815,7 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
         } else {
             l.centroid_px.y + (s_c - l.centroid_px.x) * l.direction.y / l.direction.x
         };
-        let o = other.floor() as i64;
+        let o = floor_i64(other);
         for q in o - half..=o + half {
             let (x, y) = if steep { (q, s) } else { (s, q) };
             if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
@@ -646,11 +856,8 @@ fn refine_one(
         }
     }
     // Seam pixels must cover at least half the line (counted along it, one per px).
-    let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
-    along.sort_unstable();
-    along.dedup();
     let sampled = l.length_px() - 2.0 * (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
-    if (along.len() as f64) < 0.5 * sampled {
+    if (distinct_along_px(l, pts) as f64) < 0.5 * sampled {
         return None;
     }
     let (c, mut dir) = fit_line_weighted(pts, weights)?;
@@ -668,6 +875,27 @@ fn refine_one(
         to_px: project(l.to_px),
         ..*l
     })
+}
+
+/// How many distinct whole pixels along `l` (`along_px` rounded) the points `pts` fall on:
+/// marked in a table over their range (they span the line's length), or sorted when the range
+/// is out of proportion to their number.
+fn distinct_along_px(l: &FittedLine, pts: &[DVec2]) -> usize {
+    let mut along: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
+    let (lo, hi) = along
+        .iter()
+        .fold((i64::MAX, i64::MIN), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    let span = hi.saturating_sub(lo);
+    if along.is_empty() || span < 0 || span as u64 > 4 * along.len() as u64 + 64 {
+        along.sort_unstable();
+        along.dedup();
+        return along.len();
+    }
+    let mut seen = vec![false; span as usize + 1];
+    along
+        .iter()
+        .filter(|&&a| !std::mem::replace(&mut seen[(a - lo) as usize], true))
+        .count()
 }
 
 /// Weighted total least squares: centroid and unit direction.
@@ -714,6 +942,156 @@ mod tests {
         assert!(edge_pixels(&[0; 64], 8).is_empty());
     }
     use image::Luma;
+
+    #[test]
+    fn floor_i64_is_floor_everywhere_it_is_used() {
+        let xs = [
+            -2.5,
+            -1.0,
+            -0.999,
+            -0.0,
+            0.0,
+            0.3,
+            1.0,
+            1.5,
+            479.999,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+        ];
+        for x in xs {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+        }
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e300, -1e300] {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+        }
+        // It can fail: truncation alone is wrong below zero.
+        assert_ne!(-0.5f64 as i64, floor_i64(-0.5));
+    }
+
+    /// A seeded pseudo-random 0/1 map of `w` x `h`, about one pixel in `one_in` set.
+    fn speckle(w: u32, h: u32, one_in: u64) -> Vec<u8> {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        (0..w * h)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                u8::from(x % one_in != 0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_offset_support_test_agrees_with_the_bounded_one_on_every_pixel() {
+        let (w, h) = (37u32, 23u32);
+        let raw = speckle(w, h, 4);
+        let (mut agree, mut inside) = (0, 0);
+        for u in [DVec2::Y, DVec2::new(0.866, 0.5), DVec2::new(-0.866, 0.5)] {
+            let mut steps = [(0i64, 0i64); MAX_REACH_PX];
+            let n = raster_steps(u, 3, &mut steps);
+            let linear = LinearSteps::new(&steps[..n], w, h);
+            for (row, col) in (0..h).flat_map(|r| (0..w).map(move |c| (r, c))) {
+                if !linear.inside(col, row) {
+                    continue;
+                }
+                inside += 1;
+                let want = supports(
+                    &raw,
+                    w.into(),
+                    h.into(),
+                    col.into(),
+                    row.into(),
+                    &steps[..n],
+                    1,
+                );
+                assert_eq!(linear.supports(&raw, col, row, 1), want, "{u} {col} {row}");
+                agree += usize::from(want);
+            }
+            // The border, where a neighbour lies outside, is left to the bounded test.
+            assert!(!linear.inside(0, 0) && linear.inside(w / 2, h / 2));
+        }
+        assert!(agree > 20 && agree < inside, "{agree} of {inside}");
+    }
+
+    #[test]
+    fn votes_are_ordered_along_the_line_like_a_stable_sort() {
+        let raw = speckle(64, 1, 3);
+        let vote = |t: f64| Vote {
+            rho: 0.0,
+            t,
+            p: DVec2::ZERO,
+        };
+        // Raster-like positions with many ties, a sparse set (comparison sort) and a NaN.
+        let dense: Vec<Vote> = (0..300)
+            .map(|i| vote(f64::from((i * 37) % 101) * 0.5 - 7.25 + f64::from(raw[i as usize % 64])))
+            .collect();
+        let sparse: Vec<Vote> = [5e6, -3.0, 1e7, -3.0, 0.5].map(vote).to_vec();
+        let odd: Vec<Vote> = [2.0, f64::NAN, 1.0, 2.0].map(vote).to_vec();
+        let mut along = SortAlong::default();
+        for g in [&dense, &sparse, &odd, &Vec::new()] {
+            let mut want: Vec<(f64, u32)> =
+                g.iter().enumerate().map(|(i, v)| (v.t, i as u32)).collect();
+            want.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let got = along.sort(g);
+            assert_eq!(got.len(), want.len());
+            for (a, b) in got.iter().zip(&want) {
+                assert!(a.0.to_bits() == b.0.to_bits() && a.1 == b.1, "{got:?}");
+            }
+        }
+        // It can fail: the insertion pass is what orders a bucket.
+        let mut keys = vec![(1.5, 0), (1.25, 1), (1.5, 2)];
+        insertion_sort_by_t(&mut keys);
+        assert_eq!(keys, vec![(1.25, 1), (1.5, 0), (1.5, 2)]);
+    }
+
+    #[test]
+    fn distinct_pixels_along_a_line_are_counted_once() {
+        let l = FittedLine {
+            axis: EdgeAxis::Vertical,
+            centroid_px: DVec2::new(10.0, 0.0),
+            direction: DVec2::Y,
+            from_px: DVec2::new(10.0, -50.0),
+            to_px: DVec2::new(10.0, 50.0),
+            support: 0,
+            rms_px: 0.0,
+        };
+        // Several points per pixel along the line, on both sides of it.
+        let pts: Vec<DVec2> = (0..90)
+            .map(|i| DVec2::new(9.0 + f64::from(i % 3), f64::from(i / 3) * 0.75 - 20.0))
+            .collect();
+        let mut plain: Vec<i64> = pts.iter().map(|p| l.along_px(*p).round() as i64).collect();
+        plain.sort_unstable();
+        plain.dedup();
+        assert_eq!(distinct_along_px(&l, &pts), plain.len());
+        assert!(plain.len() < pts.len());
+        // Far apart (the sorted path) and none.
+        let far = [
+            DVec2::new(10.0, -1e6),
+            DVec2::new(10.0, 1e6),
+            DVec2::new(10.0, 1e6),
+        ];
+        assert_eq!(distinct_along_px(&l, &far), 2);
+        assert_eq!(distinct_along_px(&l, &[]), 0);
+    }
+
+    #[test]
+    fn peaks_below_counts_like_a_binary_search() {
+        let peaks = [2.25, 3.0, 3.5, 9.75, 14.0];
+        let below = PeaksBelow::new(&peaks, 0.0, 20);
+        for i in 0..=200 {
+            let rho = f64::from(i) * 0.0625 + 0.01 * f64::from(i % 3);
+            let want = peaks.partition_point(|&r| r < rho);
+            assert_eq!(below.count(&peaks, rho), want, "{rho}");
+        }
+        // Exactly on a peak and just below one.
+        assert_eq!(below.count(&peaks, 3.0), 1);
+        assert_eq!(below.count(&peaks, 2.999_999), 1);
+        // Unsorted peaks fall back to the search itself.
+        let odd = [5.0, 2.0, 8.0];
+        let below = PeaksBelow::new(&odd, 0.0, 10);
+        assert!(below.at_bin.is_empty());
+        assert_eq!(below.count(&odd, 6.0), odd.partition_point(|&r| r < 6.0));
+    }
 
     #[test]
     fn least_squares_recovers_a_line_to_sub_pixel() {

@@ -8,6 +8,7 @@ pub mod machine;
 mod recognize;
 mod render;
 mod scale;
+mod settle;
 mod vision;
 mod vision_scaling;
 
@@ -34,6 +35,8 @@ enum Which {
     ExportDataset(export_dataset::Args),
     /// How each stage's cost grows from 1 to 10, 100 and 1,000 blocks.
     Scale(scale::Args),
+    /// ms, steps and drift of settling the peer benchmark's 12-block stack and cube-like stacks.
+    Settle(settle::Args),
 }
 
 /// The fastest of `repeat` runs of `f` (at least one), in ms, with the last run's result: the
@@ -56,6 +59,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match args.which {
         Which::Render(a) => render::run(a),
         Which::Scale(a) => scale::run(a),
+        Which::Settle(a) => settle::run(a),
         Which::Generate(a) => generate::run(a),
         Which::Accuracy(a) => accuracy::run(a),
         Which::Vision(a) => vision::run(a),
