@@ -217,6 +217,10 @@ pub struct Proposal {
     /// direct reading of a block's type from its sizes (Chapter V, "this information is put
     /// together to obtain the type of the blocks"), not merely a block at least that long.
     pub closed_fit: bool,
+    /// `true` when the exact fit is of a side face (a closed parallelogram under a top corner):
+    /// the block's own side is seen, which a ghost of a lower block's top face never shows
+    /// (`direct`).
+    pub side_fit: bool,
 }
 
 /// Whether a block with horizontal extents `dims` along `m.axes` and height `h` has exactly the
@@ -289,13 +293,15 @@ pub fn catalog_proposals_where(
                 let centre = corner + axes[0] * dim(axes[0]) / 2.0 + axes[1] * dim(axes[1]) / 2.0
                     - DVec3::Y * h / 2.0;
                 let dims = [dim(axes[0]), dim(axes[1])];
+                let closed_fit = fits_closed(&m, p.face, dims, h, tol.length_mm);
                 out.push(Proposal {
                     block: Block {
                         block_type: t,
                         center_mm: centre,
                         orientation: Orientation::YawDeg(yaw),
                     },
-                    closed_fit: fits_closed(&m, p.face, dims, h, tol.length_mm),
+                    closed_fit,
+                    side_fit: closed_fit && matches!(p.face, Face::Side(_)),
                 });
             }
         }

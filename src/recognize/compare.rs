@@ -32,6 +32,9 @@ pub struct PooledCandidate {
     /// Indices of the views where it fits a closed parallelogram exactly
     /// ([`Proposal::closed_fit`]).
     pub fit_views: Vec<usize>,
+    /// `true` when some view sees one of its sides as a closed parallelogram it fits exactly
+    /// ([`Proposal::side_fit`]).
+    pub side_fit: bool,
     /// How many parallelograms proposed it; `block.center_mm` is their mean.
     pub proposals: usize,
 }
@@ -56,6 +59,7 @@ pub fn pool_candidates(per_view: &[Vec<Block>], tol_mm: f64) -> Vec<PooledCandid
                 .map(|&block| Proposal {
                     block,
                     closed_fit: false,
+                    side_fit: false,
                 })
                 .collect()
         })
@@ -142,6 +146,7 @@ pub fn pool_proposals(per_view: &[Vec<Proposal>], tol_mm: f64) -> Vec<PooledCand
                     if p.closed_fit && !c.fit_views.contains(&v) {
                         c.fit_views.push(v);
                     }
+                    c.side_fit |= p.side_fit;
                 }
                 None => {
                     grid.entry((kind, cell)).or_default().push(pool.len());
@@ -149,6 +154,7 @@ pub fn pool_proposals(per_view: &[Vec<Proposal>], tol_mm: f64) -> Vec<PooledCand
                         block: *b,
                         views: vec![v],
                         fit_views: if p.closed_fit { vec![v] } else { Vec::new() },
+                        side_fit: p.side_fit,
                         proposals: 1,
                     });
                 }

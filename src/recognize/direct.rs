@@ -9,11 +9,19 @@
 //! compares the same vertex over two views: a block proposed from several views sits at its
 //! true height, where a single view's depth is ambiguous) and whose sizes some closed
 //! parallelogram reads exactly ([`super::Proposal::closed_fit`]).
+//!
+//! Corner views of a block grid see *ghosts*: a block a layer step up and as far back along
+//! the view rays has, in every view at once, the top face in the picture of a block the views
+//! already gave (rule (1) of Chapter V meets a coincidence of the grid). A ghost shows nothing
+//! of its own: none of its sides is seen as a closed parallelogram it fits. Such a candidate
+//! waits until the rest is taken, and is left out if a side of it is still uncovered then
+//! (a real block there would show that side). Leaving a real block out here costs only time:
+//! the direct hypothesis is checked (step 6) and the search takes over.
 
-use super::catalog_match::blocks_overlap;
+use super::catalog_match::{blocks_overlap, bounds_mm};
 use super::compare::PooledCandidate;
 use super::constraints::overhanging_blocks;
-use super::{ObservedView, SAME_PLACE_TOL_MM};
+use super::{Camera, ObservedView, SAME_PLACE_TOL_MM};
 use crate::geom::{convex_hull, inside_convex, DVec2, DVec3};
 use crate::scene::Block;
 use std::cmp::Reverse;
@@ -74,7 +82,8 @@ fn rests_on(b: &Block, chosen: &[Block]) -> bool {
 const SUPPORT_STEP_MM: f64 = 2.5;
 
 /// The direct hypothesis (Figure 5.3): the [`well_supported`] candidates that lie inside every
-/// view's silhouette, put together layer by layer from the lowest.
+/// view's silhouette, put together layer by layer from the lowest, ghosts of lower blocks'
+/// top faces left out (module doc).
 pub fn direct_hypothesis(
     pool: &[PooledCandidate],
     views: &[ObservedView],
@@ -85,14 +94,103 @@ pub fn direct_hypothesis(
         .into_iter()
         .filter(|&i| inside_every_view(&pool[i].block, views, &hulls, tol_px))
         .collect();
-    take_lowest_first(pool, candidates)
+    let ghost = |c: &PooledCandidate, chosen: &[Block], settled: bool| {
+        is_ghost(c, chosen, views, tol_px, settled)
+    };
+    take_lowest_first(pool, candidates, &ghost)
+}
+
+/// The picture points of the top face's corners of `b` in `camera`.
+fn top_corners_px(b: &Block, camera: &Camera) -> Vec<DVec2> {
+    let top = bounds_mm(b).1.y;
+    b.world_vertices()
+        .into_iter()
+        .filter(|v| (v.y - top).abs() <= SAME_PLACE_TOL_MM)
+        .map(|v| camera.picture_from_world(v).truncate())
+        .collect()
+}
+
+/// `true` when the two corner sets are the same points within `tol_px`.
+fn same_corners(a: &[DVec2], b: &[DVec2], tol_px: f64) -> bool {
+    a.len() == b.len() && a.iter().all(|p| b.iter().any(|q| q.distance(*p) <= tol_px))
+}
+
+/// How far outside a side face [`sides_covered`] probes, mm (above the contact tolerance, far
+/// below any catalog size).
+const SIDE_PROBE_MM: f64 = 0.5;
+
+/// `true` when every side face of `b` is covered by blocks of `chosen` touching it: probes just
+/// outside each side (its centre and four points 1 mm in from its corners) all lie inside
+/// chosen blocks. Such a block's sides cannot be seen, so a missing side fit says nothing.
+fn sides_covered(b: &Block, chosen: &[Block]) -> bool {
+    let (lo, hi) = bounds_mm(b);
+    let boxes: Vec<(DVec3, DVec3)> = chosen.iter().map(bounds_mm).collect();
+    let inside = |q: DVec3| {
+        boxes
+            .iter()
+            .any(|(l, h)| (0..3).all(|k| q[k] > l[k] && q[k] < h[k]))
+    };
+    [(0, 2), (2, 0)].iter().all(|&(fixed, run)| {
+        [(lo[fixed], -1.0), (hi[fixed], 1.0)]
+            .iter()
+            .all(|&(face, out)| {
+                let at = |r: f64, y: f64| {
+                    let mut q = DVec3::new(0.0, y, 0.0);
+                    q[fixed] = face + out * SIDE_PROBE_MM;
+                    q[run] = r;
+                    q
+                };
+                let (r0, r1, y0, y1) = (lo[run] + 1.0, hi[run] - 1.0, lo.y + 1.0, hi.y - 1.0);
+                let mid = at((lo[run] + hi[run]) / 2.0, (lo.y + hi.y) / 2.0);
+                [mid, at(r0, y0), at(r0, y1), at(r1, y0), at(r1, y1)]
+                    .into_iter()
+                    .all(inside)
+            })
+    })
+}
+
+/// `true` when candidate `c`, above the floor, may be a ghost of `chosen`'s lower blocks
+/// (module doc): no side of it fits a closed parallelogram, and in every view its top face is
+/// the top face of a lower chosen block. With `settled` (all else taken), only if some side of
+/// it is also uncovered by the chosen blocks, so that a real block there would show it.
+fn is_ghost(
+    c: &PooledCandidate,
+    chosen: &[Block],
+    views: &[ObservedView],
+    tol_px: f64,
+    settled: bool,
+) -> bool {
+    let b = &c.block;
+    if c.side_fit || b.bottom_mm() <= SAME_PLACE_TOL_MM {
+        return false;
+    }
+    if settled && sides_covered(b, chosen) {
+        return false;
+    }
+    let top = bounds_mm(b).1.y;
+    let lower: Vec<&Block> = chosen
+        .iter()
+        .filter(|l| bounds_mm(l).1.y < top - SAME_PLACE_TOL_MM)
+        .collect();
+    views.iter().all(|v| {
+        let mine = top_corners_px(b, &v.camera);
+        lower
+            .iter()
+            .any(|l| same_corners(&mine, &top_corners_px(l, &v.camera), tol_px))
+    })
 }
 
 /// Candidates `indices` of `pool` lowest layer first ("starting from the lowest level to the
 /// upper levels", Chapter V), within a layer best supported first (views with an exact fit,
 /// then views proposing it), then the smaller block and the more proposals; each taken unless
-/// it overlaps one already taken or does not rest on them.
-fn take_lowest_first(pool: &[PooledCandidate], mut indices: Vec<usize>) -> Vec<Block> {
+/// it overlaps one already taken or does not rest on them. A candidate `ghost` flags (given
+/// the blocks taken so far) waits; once the rest is taken it joins unless `ghost`, asked
+/// again with everything else in place, still flags it.
+fn take_lowest_first(
+    pool: &[PooledCandidate],
+    mut indices: Vec<usize>,
+    ghost: &dyn Fn(&PooledCandidate, &[Block], bool) -> bool,
+) -> Vec<Block> {
     indices.sort_by_key(|&i| {
         let c = &pool[i];
         let size = c.block.block_type.size_mm();
@@ -105,11 +203,24 @@ fn take_lowest_first(pool: &[PooledCandidate], mut indices: Vec<usize>) -> Vec<B
             i,
         )
     });
+    let fits = |b: &Block, chosen: &[Block]| {
+        !chosen.iter().any(|c| blocks_overlap(c, b)) && rests_on(b, chosen)
+    };
     let mut chosen: Vec<Block> = Vec::new();
+    let mut waiting: Vec<usize> = Vec::new();
     for i in indices {
-        let b = pool[i].block;
-        if !chosen.iter().any(|c| blocks_overlap(c, &b)) && rests_on(&b, &chosen) {
-            chosen.push(b);
+        if !fits(&pool[i].block, &chosen) {
+            continue;
+        }
+        if ghost(&pool[i], &chosen, false) {
+            waiting.push(i);
+        } else {
+            chosen.push(pool[i].block);
+        }
+    }
+    for i in waiting {
+        if fits(&pool[i].block, &chosen) && !ghost(&pool[i], &chosen, true) {
+            chosen.push(pool[i].block);
         }
     }
     chosen
@@ -124,6 +235,7 @@ mod tests {
             block: Block::new(id, DVec3::new(7.5, y, 7.5), 0.0),
             views: (0..views).collect(),
             fit_views: (0..fits).collect(),
+            side_fit: false,
             proposals: views,
         }
     }
@@ -137,7 +249,7 @@ mod tests {
             candidate("b15", 37.5, 4, 0),
         ];
         assert_eq!(well_supported(&pool, 4), vec![0, 1]);
-        let h = take_lowest_first(&pool, well_supported(&pool, 4));
+        let h = take_lowest_first(&pool, well_supported(&pool, 4), &|_, _, _| false);
         assert_eq!(h.len(), 1, "the b7_5 overlaps the b15");
         assert_eq!(h[0].block_type.id, "b15");
         // One view: a single view's candidates are all the evidence there is.
@@ -151,12 +263,74 @@ mod tests {
             candidate("b15", 7.5, 2, 2),
             candidate("b15", 37.5, 2, 2),
         ];
-        let h = take_lowest_first(&pool, vec![0, 1, 2]);
+        let h = take_lowest_first(&pool, vec![0, 1, 2], &|_, _, _| false);
         assert_eq!(h.len(), 1, "{h:?}");
         assert_eq!(h[0].block_type.id, "b15", "the block reaching the floor");
         let on_top = candidate("b15", 22.5, 2, 2);
-        let h = take_lowest_first(&[pool[1].clone(), on_top], vec![1, 0]);
+        let h = take_lowest_first(&[pool[1].clone(), on_top], vec![1, 0], &|_, _, _| false);
         assert_eq!(h.len(), 2, "a block resting on the first is taken after it");
+    }
+
+    /// `b15` cubes of a 3 x 3 grid: the `layer`-th layer's cells `cells` (row-major).
+    fn cubes(layer: usize, cells: &[usize]) -> Vec<Block> {
+        cells
+            .iter()
+            .map(|&k| {
+                let centre = DVec3::new(
+                    (k % 3) as f64 * 15.0,
+                    layer as f64 * 15.0 + 7.5,
+                    (k / 3) as f64 * 15.0,
+                );
+                Block::new("b15", centre, 0.0)
+            })
+            .collect()
+    }
+
+    /// The direct hypothesis from the exact four corner views of `truth`, and the same with
+    /// no candidate ever taken for a ghost.
+    fn direct_from(truth: &[Block]) -> (Vec<Block>, Vec<Block>) {
+        use crate::recognize::{views_of, CornerView, RecognizeOptions};
+        let views = views_of(truth, &CornerView::ALL);
+        let opts = RecognizeOptions::default();
+        let pool = super::super::propose_and_pool(&views, &opts, true, &mut Default::default());
+        let hulls = silhouettes(&views);
+        let candidates: Vec<usize> = well_supported(&pool, views.len())
+            .into_iter()
+            .filter(|&i| inside_every_view(&pool[i].block, &views, &hulls, opts.tol_px))
+            .collect();
+        let blind = take_lowest_first(&pool, candidates, &|_, _, _| false);
+        (direct_hypothesis(&pool, &views, opts.tol_px), blind)
+    }
+
+    fn same_blocks(a: &[Block], b: &[Block]) -> bool {
+        a.len() == b.len()
+            && a.iter().all(|x| {
+                b.iter().any(|y| {
+                    x.block_type.id == y.block_type.id && x.center_mm.distance(y.center_mm) < 0.01
+                })
+            })
+    }
+
+    #[test]
+    fn ghosts_of_a_grid_layer_are_left_out_and_real_upper_blocks_kept() {
+        // The 3 x 3 layer with a row of three on top (`bench render`'s 12-block stack): two
+        // b7_5 ghosts over the layer's back half repeat its top faces in all four views.
+        let stack = [cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]), cubes(1, &[0, 1, 2])].concat();
+        let (direct, blind) = direct_from(&stack);
+        assert!(same_blocks(&direct, &stack), "{direct:?}");
+        assert!(
+            blind.iter().any(|b| b.block_type.id == "b7_5"),
+            "without the ghost test the direct path takes a ghost: {blind:?}"
+        );
+        // One cube on the layer's edge: its top face may repeat lower ones, but its sides are
+        // seen.
+        let on_edge = [cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]), cubes(1, &[1])].concat();
+        assert!(same_blocks(&direct_from(&on_edge).0, &on_edge));
+        // Two full layers: the upper middle shows no side, but its neighbours cover every
+        // side, so it is no ghost.
+        let all = [0, 1, 2, 3, 4, 5, 6, 7, 8];
+        let two_layers = [cubes(0, &all), cubes(1, &all)].concat();
+        assert!(same_blocks(&direct_from(&two_layers).0, &two_layers));
     }
 
     #[test]
