@@ -5,6 +5,7 @@ mod accuracy;
 mod export_dataset;
 mod generate;
 pub mod machine;
+mod peers;
 mod recognize;
 mod render;
 mod scale;
@@ -34,6 +35,9 @@ enum Which {
     ExportDataset(export_dataset::Args),
     /// How each stage's cost grows from 1 to 10, 100 and 1,000 blocks.
     Scale(scale::Args),
+    /// generate, render and vision beside their peers (Kubric-style, Blender Workbench,
+    /// OpenCV), interleaved over rounds, and the ratios of the medians.
+    Peers(peers::Args),
 }
 
 /// The fastest of `repeat` runs of `f` (at least one), in ms, with the last run's result: the
@@ -61,5 +65,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Which::Vision(a) => vision::run(a),
         Which::Recognize(a) => recognize::run(a),
         Which::ExportDataset(a) => export_dataset::run(a),
+        Which::Peers(a) => peers::run(a),
     }
 }
