@@ -64,7 +64,7 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ("anyhow", &["cli"]),
     ("gltf", &["export"]),
     ("indicatif", &["cli"]),
-    ("libc", &["dataset/lock"]),
+    ("libc", &["dataset/lock", "dataset/memory"]),
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {

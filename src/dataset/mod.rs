@@ -12,6 +12,7 @@ mod families;
 mod generate;
 mod lock;
 mod manifest;
+mod memory;
 mod shard;
 mod writer;
 

@@ -372,6 +372,7 @@ pub fn generate_dataset(
     if !opts.views.is_empty() && renderer.is_none() {
         return Err(DatasetError::NoRenderer);
     }
+    super::memory::keep_freed_pictures_in_heap();
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     let _lock = super::lock::lock_dataset(dir, opts.shard)?;
     let manifest_name = if opts.shard.is_whole() {

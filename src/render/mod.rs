@@ -230,50 +230,72 @@ impl Renderer {
         view: CornerView,
         opts: &RenderOptions,
     ) -> Result<RenderedView, RenderError> {
+        let mut views = self.render_views_pixels(scene, &[view], opts)?;
+        views
+            .pop()
+            .ok_or_else(|| RenderError::Gpu("the renderer returned no view".into()))
+    }
+
+    /// The pixels of the given views, `lines` empty: all views drawn in one GPU submission and
+    /// read back after one wait (README "Benchmarks": the per-submission cost of lavapipe is paid
+    /// once per scene). The pixels are those of [`Renderer::render_pixels`] view by view.
+    pub fn render_views_pixels(
+        &self,
+        scene: &Scene,
+        views: &[CornerView],
+        opts: &RenderOptions,
+    ) -> Result<Vec<RenderedView>, RenderError> {
         self.check_options(opts)?;
         let points: Vec<DVec3> = scene
             .blocks
             .iter()
             .flat_map(|b| b.world_vertices())
             .collect();
-        let camera = Camera::frame(&points, view, &opts.camera);
-        let vertices = gpu::mesh::scene_vertices(scene, &camera).map_err(|e| {
-            RenderError::Options(format!(
-                "block {} face {} has {} edges; the renderer draws faces of at most {} edges",
-                e.block,
-                e.face,
-                e.edges,
-                gpu::mesh::MAX_FACE_EDGES
-            ))
-        })?;
-        let [w, h] = opts.camera.size_px;
-        let frame = self
+        let cameras: Vec<Camera> = views
+            .iter()
+            .map(|v| Camera::frame(&points, *v, &opts.camera))
+            .collect();
+        let meshes = cameras
+            .iter()
+            .map(|c| view_mesh(scene, c))
+            .collect::<Result<Vec<_>, _>>()?;
+        let requests: Vec<gpu::FrameRequest<'_>> = cameras
+            .iter()
+            .zip(&meshes)
+            .map(|(c, m)| gpu::FrameRequest {
+                vertices: m,
+                uniforms: frame_uniforms(c),
+            })
+            .collect();
+        let frames = self
             .gpu
-            .draw(&vertices, &frame_uniforms(&camera), [w, h], opts.msaa)?;
-        let mut gray = GrayImage::from_raw(w, h, frame.gray)
-            .ok_or_else(|| RenderError::Gpu("gray readback has the wrong size".into()))?;
-        add_sensor_noise(&mut gray, opts.noise_sigma, noise_seed(opts.seed, view));
-        let depth = Gray16Image::from_raw(w, h, frame.depth)
-            .ok_or_else(|| RenderError::Gpu("depth readback has the wrong size".into()))?;
-        let ids = Gray16Image::from_raw(w, h, frame.ids)
-            .ok_or_else(|| RenderError::Gpu("ids readback has the wrong size".into()))?;
-        Ok(RenderedView {
-            camera,
-            gray,
-            depth,
-            ids,
-            lines: LineDrawing::default(),
-        })
+            .draw_many(&requests, opts.camera.size_px, opts.msaa)?;
+        cameras
+            .into_iter()
+            .zip(frames)
+            .map(|(camera, frame)| rendered_view(camera, frame, opts))
+            .collect()
     }
 
-    /// Renders the given views of `scene` (usually [`CornerView::ALL`]).
+    /// Renders the given views of `scene` (usually [`CornerView::ALL`]) with their exact line
+    /// drawings; the pixels of all views come from one submission
+    /// ([`Renderer::render_views_pixels`]).
     pub fn render_views(
         &self,
         scene: &Scene,
         views: &[CornerView],
         opts: &RenderOptions,
     ) -> Result<Vec<RenderedView>, RenderError> {
-        views.iter().map(|v| self.render(scene, *v, opts)).collect()
+        let mut rendered = self.render_views_pixels(scene, views, opts)?;
+        for v in &mut rendered {
+            v.lines = truth::visible_line_drawing_with_progress(
+                scene,
+                &v.camera,
+                &truth::TruthTolerances::default(),
+                &|_, _| {},
+            );
+        }
+        Ok(rendered)
     }
 
     /// Adapter name and backend, for logs and benchmark tables.
@@ -303,6 +325,48 @@ impl Renderer {
         }
         Ok(())
     }
+}
+
+/// The triangles of `scene` seen by `camera`; a face the renderer cannot draw is an options
+/// error naming it.
+fn view_mesh(scene: &Scene, camera: &Camera) -> Result<Vec<gpu::mesh::Vertex>, RenderError> {
+    gpu::mesh::scene_vertices(scene, camera).map_err(|e| {
+        RenderError::Options(format!(
+            "block {} face {} has {} edges; the renderer draws faces of at most {} edges",
+            e.block,
+            e.face,
+            e.edges,
+            gpu::mesh::MAX_FACE_EDGES
+        ))
+    })
+}
+
+/// One view from its camera and the frame read back: the gray picture with the view's sensor
+/// noise, depth and ids; `lines` empty.
+fn rendered_view(
+    camera: Camera,
+    frame: gpu::Frame,
+    opts: &RenderOptions,
+) -> Result<RenderedView, RenderError> {
+    let [w, h] = opts.camera.size_px;
+    let mut gray = GrayImage::from_raw(w, h, frame.gray)
+        .ok_or_else(|| RenderError::Gpu("gray readback has the wrong size".into()))?;
+    add_sensor_noise(
+        &mut gray,
+        opts.noise_sigma,
+        noise_seed(opts.seed, camera.view),
+    );
+    let depth = Gray16Image::from_raw(w, h, frame.depth)
+        .ok_or_else(|| RenderError::Gpu("depth readback has the wrong size".into()))?;
+    let ids = Gray16Image::from_raw(w, h, frame.ids)
+        .ok_or_else(|| RenderError::Gpu("ids readback has the wrong size".into()))?;
+    Ok(RenderedView {
+        camera,
+        gray,
+        depth,
+        ids,
+        lines: LineDrawing::default(),
+    })
 }
 
 /// The noise seed of one view: the options' seed mixed with the view, so the four views get

@@ -2,6 +2,12 @@
 //! `shaders/scene.wgsl`, cached render targets and the readback of the gray picture, depth and
 //! block ids.
 //!
+//! Several frames (a dataset scene's four corner views) go to the device in ONE submission and
+//! come back through ONE wait on the device ([`Gpu::draw_many`]): each frame's passes and copy
+//! into its own readback buffer are recorded into one command encoder, so the per-submission
+//! cost of lavapipe (waking its rasterizer threads, the fence, the map) is paid once per scene,
+//! not once per view (README "Benchmarks").
+//!
 //! Without MSAA one pass writes all three targets (gray `R8Unorm`, depth and ids `R16Uint`).
 //! With MSAA 4 the gray picture is drawn multisampled and resolved, and a second single-sampled
 //! pass draws the ground truth, so depth and ids are never blended.
@@ -22,6 +28,17 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// How many differently sized target sets stay cached.
 const MAX_CACHED_TARGETS: usize = 4;
 
+/// Most frames recorded into one submission: the four corner views of a scene.
+pub const MAX_FRAMES_PER_SUBMISSION: usize = 4;
+
+/// Readback bytes one submission may hold at most (256 MiB): larger pictures go fewer frames at a
+/// time, so four views of a huge picture never need four huge buffers at once.
+const MAX_SUBMISSION_READBACK_BYTES: u64 = 256 << 20;
+
+/// Bytes between the frames' uniforms in the uniform buffer: wgpu's
+/// `min_uniform_buffer_offset_alignment` on every device (256).
+const UNIFORM_STRIDE: u64 = 256;
+
 /// Per-frame shader constants (`Frame` in `shaders/scene.wgsl`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -38,6 +55,15 @@ pub struct FrameUniforms {
     pub depth_units_per_mm: f32,
     /// Padding to 16 bytes.
     pub pad: f32,
+}
+
+/// One frame to draw: its triangles and its shader constants.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameRequest<'a> {
+    /// Triangle list of the frame (its camera's mesh, [`mesh::scene_vertices`]).
+    pub vertices: &'a [Vertex],
+    /// The frame's shader constants.
+    pub uniforms: FrameUniforms,
 }
 
 /// One frame read back, rows top to bottom, tightly packed.
@@ -101,7 +127,8 @@ struct Targets {
     depth_buffer_view: wgpu::TextureView,
     /// Multisampled gray and depth buffer (MSAA 4 only).
     msaa_views: Option<(wgpu::TextureView, wgpu::TextureView)>,
-    readback: wgpu::Buffer,
+    /// One readback buffer per frame of a submission, created as submissions need them.
+    readbacks: Vec<wgpu::Buffer>,
     layout: ReadbackLayout,
 }
 
@@ -220,15 +247,30 @@ impl Gpu {
         Err(lo)
     }
 
-    /// Draws `vertices` (a triangle list) with `uniforms` into `size` px targets with `msaa`
-    /// samples (1 or 4, checked by the caller) and reads the three images back.
-    pub fn draw(
+    /// Draws every request into `size` px targets with `msaa` samples and reads them back, in
+    /// order: up to [`MAX_FRAMES_PER_SUBMISSION`] frames per submission and per wait.
+    pub fn draw_many(
         &self,
-        vertices: &[Vertex],
-        uniforms: &FrameUniforms,
+        requests: &[FrameRequest<'_>],
         size: [u32; 2],
         msaa: u32,
-    ) -> Result<Frame, RenderError> {
+    ) -> Result<Vec<Frame>, RenderError> {
+        let per_submission = frames_per_submission(ReadbackLayout::new(size).total());
+        let mut frames = Vec::with_capacity(requests.len());
+        for chunk in requests.chunks(per_submission) {
+            frames.extend(self.draw_submission(chunk, size, msaa)?);
+        }
+        Ok(frames)
+    }
+
+    /// One submission: every frame's passes and readback copy in one command buffer, then one
+    /// wait for all of them.
+    fn draw_submission(
+        &self,
+        requests: &[FrameRequest<'_>],
+        size: [u32; 2],
+        msaa: u32,
+    ) -> Result<Vec<Frame>, RenderError> {
         let mut state = self
             .state
             .lock()
@@ -237,21 +279,23 @@ impl Gpu {
         let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let vertex_bytes: &[u8] = bytemuck::cast_slice(vertices);
-        let vbuf = self.vertex_buffer(&mut state.vertices, vertex_bytes.len() as u64);
-        self.queue.write_buffer(vbuf, 0, vertex_bytes);
-        self.queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+        let ranges = self.upload(&mut state.vertices, requests);
+        let vbuf = state.vertices.as_ref().expect("uploaded");
         let targets = self.targets(&mut state.targets, size, msaa);
+        self.ensure_readbacks(targets, requests.len());
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        self.encode_passes(&mut encoder, targets, vbuf, vertices.len() as u32);
-        encode_readback(&mut encoder, targets);
+        for (i, range) in ranges.into_iter().enumerate() {
+            let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
+            self.encode_passes(&mut encoder, targets, vbuf, range, uniform_offset);
+            encode_readback(&mut encoder, targets, &targets.readbacks[i]);
+        }
         self.queue.submit([encoder.finish()]);
         let submitted = started.elapsed();
-        let result = self.read_back(targets);
+        let result = self.read_back(targets, requests.len());
         tracing::debug!(
+            frames = requests.len(),
             submit_ms = submitted.as_secs_f64() * 1e3,
             total_ms = started.elapsed().as_secs_f64() * 1e3,
             "gpu draw + readback"
@@ -265,6 +309,50 @@ impl Gpu {
             return Err(RenderError::Gpu(e));
         }
         result
+    }
+
+    /// Writes every request's vertices one after another into the vertex buffer and its
+    /// uniforms at `i * UNIFORM_STRIDE`; returns each frame's vertex range.
+    fn upload(
+        &self,
+        slot: &mut Option<wgpu::Buffer>,
+        requests: &[FrameRequest<'_>],
+    ) -> Vec<std::ops::Range<u32>> {
+        let total_bytes: u64 = requests
+            .iter()
+            .map(|r| std::mem::size_of_val(r.vertices) as u64)
+            .sum();
+        let vbuf = self.vertex_buffer(slot, total_bytes);
+        let (mut byte_offset, mut first) = (0u64, 0u32);
+        let mut ranges = Vec::with_capacity(requests.len());
+        for (i, r) in requests.iter().enumerate() {
+            let bytes: &[u8] = bytemuck::cast_slice(r.vertices);
+            self.queue.write_buffer(vbuf, byte_offset, bytes);
+            self.queue.write_buffer(
+                &self.uniforms,
+                i as u64 * UNIFORM_STRIDE,
+                bytemuck::bytes_of(&r.uniforms),
+            );
+            let count = r.vertices.len() as u32;
+            ranges.push(first..first + count);
+            byte_offset += bytes.len() as u64;
+            first += count;
+        }
+        ranges
+    }
+
+    /// Creates readback buffers until `targets` has one per frame of the submission.
+    fn ensure_readbacks(&self, targets: &mut Targets, frames: usize) {
+        while targets.readbacks.len() < frames {
+            targets
+                .readbacks
+                .push(self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("readback"),
+                    size: targets.layout.total(),
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }));
+        }
     }
 
     /// The vertex buffer, grown (to a power of two) only when the scene does not fit.
@@ -286,7 +374,12 @@ impl Gpu {
     }
 
     /// The cached targets for (size, msaa), created on first use.
-    fn targets<'a>(&self, cache: &'a mut Vec<Targets>, size: [u32; 2], msaa: u32) -> &'a Targets {
+    fn targets<'a>(
+        &self,
+        cache: &'a mut Vec<Targets>,
+        size: [u32; 2],
+        msaa: u32,
+    ) -> &'a mut Targets {
         let found = cache.iter().position(|t| t.size == size && t.msaa == msaa);
         let index = match found {
             Some(i) => i,
@@ -298,7 +391,7 @@ impl Gpu {
                 cache.len() - 1
             }
         };
-        &cache[index]
+        &mut cache[index]
     }
 
     fn create_targets(&self, size: [u32; 2], msaa: u32) -> Targets {
@@ -332,12 +425,6 @@ impl Gpu {
             (c, d)
         });
         let layout = ReadbackLayout::new(size);
-        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: layout.total(),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         Targets {
             size,
             msaa,
@@ -349,7 +436,7 @@ impl Gpu {
             ids_view,
             depth_buffer_view,
             msaa_views,
-            readback,
+            readbacks: Vec::new(),
             layout,
         }
     }
@@ -359,7 +446,8 @@ impl Gpu {
         encoder: &mut wgpu::CommandEncoder,
         t: &Targets,
         vbuf: &wgpu::Buffer,
-        vertex_count: u32,
+        vertices: std::ops::Range<u32>,
+        uniform_offset: u32,
     ) {
         let background = f64::from(super::BACKGROUND_LEVEL) / 255.0;
         let clear_gray = wgpu::Color {
@@ -403,9 +491,9 @@ impl Gpu {
                 ..Default::default()
             });
             rp.set_pipeline(pipeline);
-            rp.set_bind_group(0, &self.bind_group, &[]);
+            rp.set_bind_group(0, &self.bind_group, &[uniform_offset]);
             rp.set_vertex_buffer(0, vbuf.slice(..));
-            rp.draw(0..vertex_count, 0..1);
+            rp.draw(vertices.clone(), 0..1);
         };
         match &t.msaa_views {
             None => pass(
@@ -435,32 +523,49 @@ impl Gpu {
         }
     }
 
-    /// Maps the readback buffer, waits, and unpads the rows.
-    fn read_back(&self, t: &Targets) -> Result<Frame, RenderError> {
+    /// Maps the first `frames` readback buffers, waits once, and unpads their rows.
+    fn read_back(&self, t: &Targets, frames: usize) -> Result<Vec<Frame>, RenderError> {
+        let buffers = &t.readbacks[..frames];
         let (tx, rx) = std::sync::mpsc::channel();
-        t.readback.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
+        for buffer in buffers {
+            let tx = tx.clone();
+            buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+                let _ = tx.send(r);
+            });
+        }
+        drop(tx);
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| RenderError::Gpu(format!("waiting for the GPU: {e}")))?;
-        rx.recv()
-            .map_err(|_| RenderError::Gpu("readback callback never ran".into()))?
-            .map_err(|e| RenderError::Gpu(format!("mapping the readback buffer: {e}")))?;
-        let frame = {
-            let bytes = t
-                .readback
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
-            unpad(&bytes, t.size, &t.layout)
-        };
-        t.readback.unmap();
-        Ok(frame)
+        for _ in buffers {
+            rx.recv()
+                .map_err(|_| RenderError::Gpu("readback callback never ran".into()))?
+                .map_err(|e| RenderError::Gpu(format!("mapping the readback buffer: {e}")))?;
+        }
+        let mut out = Vec::with_capacity(frames);
+        for buffer in buffers {
+            let frame = {
+                let bytes = buffer
+                    .get_mapped_range(..)
+                    .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
+                unpad(&bytes, t.size, &t.layout)
+            };
+            buffer.unmap();
+            out.push(frame);
+        }
+        Ok(out)
     }
 }
 
-/// Copies the three targets into the readback buffer, rows padded to 256 bytes.
-fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets) {
+/// Frames per submission for pictures of `readback_bytes` each: all four views unless that
+/// would hold more than [`MAX_SUBMISSION_READBACK_BYTES`] of readback, never fewer than one.
+fn frames_per_submission(readback_bytes: u64) -> usize {
+    let fit = MAX_SUBMISSION_READBACK_BYTES / readback_bytes.max(1);
+    (fit as usize).clamp(1, MAX_FRAMES_PER_SUBMISSION)
+}
+
+/// Copies the three targets into `readback`, rows padded to 256 bytes.
+fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &wgpu::Buffer) {
     let l = &t.layout;
     let extent = wgpu::Extent3d {
         width: t.size[0],
@@ -475,7 +580,7 @@ fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets) {
         encoder.copy_texture_to_buffer(
             texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
-                buffer: &t.readback,
+                buffer: readback,
                 layout: wgpu::TexelCopyBufferLayout {
                     offset,
                     bytes_per_row: Some(row),
@@ -524,7 +629,7 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
     });
     let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("frame uniforms"),
-        size: std::mem::size_of::<FrameUniforms>() as u64,
+        size: UNIFORM_STRIDE * MAX_FRAMES_PER_SUBMISSION as u64,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
@@ -535,7 +640,7 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
+                has_dynamic_offset: true,
                 min_binding_size: None,
             },
             count: None,
@@ -546,7 +651,11 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
         layout: &bgl,
         entries: &[wgpu::BindGroupEntry {
             binding: 0,
-            resource: uniforms.as_entire_binding(),
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &uniforms,
+                offset: 0,
+                size: std::num::NonZeroU64::new(std::mem::size_of::<FrameUniforms>() as u64),
+            }),
         }],
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -646,6 +755,21 @@ mod tests {
         assert_eq!(l.total(), 512 * 3 + 2 * 1024 * 3);
         let l = ReadbackLayout::new([512, 480]);
         assert_eq!((l.gray_row, l.truth_row), (512, 1024));
+    }
+
+    #[test]
+    fn four_views_share_a_submission_unless_their_readback_is_huge() {
+        let small = ReadbackLayout::new([512, 480]).total();
+        assert_eq!(frames_per_submission(small), MAX_FRAMES_PER_SUBMISSION);
+        let huge = ReadbackLayout::new([8192, 8192]).total();
+        assert_eq!(frames_per_submission(huge), 1);
+        let big = ReadbackLayout::new([4096, 4096]).total();
+        assert_eq!(
+            frames_per_submission(big),
+            3,
+            "80 MiB each: three fit in 256 MiB"
+        );
+        assert_eq!(frames_per_submission(u64::MAX), 1);
     }
 
     #[test]

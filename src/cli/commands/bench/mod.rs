@@ -5,6 +5,7 @@ mod accuracy;
 mod export_dataset;
 mod generate;
 pub mod machine;
+mod peers;
 mod recognize;
 mod render;
 mod scale;
@@ -37,6 +38,9 @@ enum Which {
     Scale(scale::Args),
     /// ms, steps and drift of settling the peer benchmark's 12-block stack and cube-like stacks.
     Settle(settle::Args),
+    /// generate, render and vision beside their peers (Kubric-style, Blender Workbench,
+    /// OpenCV), interleaved over rounds, and the ratios of the medians.
+    Peers(peers::Args),
 }
 
 /// The fastest of `repeat` runs of `f` (at least one), in ms, with the last run's result: the
@@ -65,5 +69,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Which::Vision(a) => vision::run(a),
         Which::Recognize(a) => recognize::run(a),
         Which::ExportDataset(a) => export_dataset::run(a),
+        Which::Peers(a) => peers::run(a),
     }
 }
