@@ -64,7 +64,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 12.0)]
     pub sensor_read_noise: f64,
     /// Photo sensor: gamma (recorded level = radiance^(1/gamma)).
-    #[arg(long, default_value_t = 2.2)]
+    #[arg(long, default_value_t = 1.0)]
     pub sensor_gamma: f64,
     /// Photo sensor: share of light lost in the corners.
     #[arg(long, default_value_t = 0.15)]

@@ -29,8 +29,14 @@ pub struct PhotoUniforms {
     pub light_clip_from_world: [f32; 16],
     /// Unit vector towards the light (xyz) and diffuse intensity (w).
     pub towards_light: [f32; 4],
-    /// Ambient, depth bias (shadow-map depth units), receiver normal offset (mm), unused.
+    /// Ambient, depth bias (mm), receiver normal offset (mm), shadow map texel (mm).
     pub params: [f32; 4],
+    /// Tan of the light's angular radius, shadow depth range (mm), blocker search radius
+    /// (mm), largest penumbra radius (mm).
+    pub soft: [f32; 4],
+    /// World normal to shadow clip-space plane normal (inverse transpose of the linear part of
+    /// `light_clip_from_world`), column-major.
+    pub light_clip_normal: [f32; 16],
 }
 
 /// Pipelines, shadow map and cached targets of the photo look; one per renderer.

@@ -14,17 +14,22 @@ use glam::DMat3;
 use rand::{Rng, SeedableRng};
 
 /// Width of the bevel cut along every block edge, measured in each face, mm.
-pub const BEVEL_MM: f64 = 0.3;
+pub const BEVEL_MM: f64 = 0.05;
 
 /// Width of the crack between two touching blocks, mm: every face of a block moves inward by
 /// half of it.
-pub const CRACK_MM: f64 = 0.2;
+pub const CRACK_MM: f64 = 0.3;
 
 /// Ambient light (radiance of a white face in full shadow).
-pub const PHOTO_AMBIENT: f64 = 0.1;
+pub const PHOTO_AMBIENT: f64 = 0.2;
 
 /// Diffuse intensity of the key light (radiance of a white face lit head-on, over ambient).
-pub const PHOTO_DIFFUSE: f64 = 0.75;
+pub const PHOTO_DIFFUSE: f64 = 0.65;
+
+/// Angular radius of the key light, degrees (a large softbox, about 90 cm across at 1 m): shadows
+/// are hard where they touch their occluder and soften with distance, so a block's shadow on a
+/// neighbour fades out instead of drawing a line.
+pub const KEY_LIGHT_RADIUS_DEG: f64 = 25.0;
 
 /// Albedo of the floor (dark cloth): lit floor well below a block's darkest lit face.
 pub const PHOTO_FLOOR_ALBEDO: f64 = 0.15;
@@ -53,6 +58,9 @@ pub struct KeyLight {
     pub diffuse: f64,
     /// Ambient radiance.
     pub ambient: f64,
+    /// Angular radius of the light seen from the scene, degrees: an area light (a softbox)
+    /// whose shadows soften with the distance from the occluder.
+    pub angular_radius_deg: f64,
 }
 
 /// The key light for `camera`: the line-art light's direction (upper left, behind the camera,
@@ -78,6 +86,7 @@ pub fn key_light(camera: &Camera, jitter_deg: f64, seed: u64) -> KeyLight {
         towards_light: DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()),
         diffuse: PHOTO_DIFFUSE,
         ambient: PHOTO_AMBIENT,
+        angular_radius_deg: KEY_LIGHT_RADIUS_DEG,
     }
 }
 
@@ -98,13 +107,23 @@ pub fn block_albedos(scene: &Scene, [lo, hi]: [f64; 2], seed: u64) -> Vec<f64> {
 }
 
 /// Triangles of every block (cracked and bevelled, [`bevelled_block`]) and then of the floor
-/// (a square at y = 0 under the camera target, as wide as the far clip distance).
+/// (a square at y = 0 under the camera target, as wide as the far clip distance). The faces of
+/// touching blocks draw back by half a crack each, and a black sheet fills the crack's middle
+/// plane where they touch: no light reaches the bottom of a narrow crack ([`find_contacts`]).
 pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<PhotoVertex> {
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 44 * 3);
-    for (block, albedo) in scene.blocks.iter().zip(albedos) {
-        for polygon in bevelled_block(block, BEVEL_MM, CRACK_MM) {
+    let contacts = find_contacts(scene);
+    for ((block, albedo), touching) in scene.blocks.iter().zip(albedos).zip(&contacts.touching) {
+        let retract_mm: Vec<f64> = touching
+            .iter()
+            .map(|t| if *t { CRACK_MM / 2.0 } else { 0.0 })
+            .collect();
+        for polygon in bevelled_block(block, BEVEL_MM, &retract_mm) {
             push_polygon(&mut out, &polygon.corners, polygon.outward, *albedo);
         }
+    }
+    for sheet in &contacts.sheets {
+        push_polygon(&mut out, &sheet.corners, sheet.outward, 0.0);
     }
     let half = camera.near_far_mm[1].max(1000.0);
     let [cx, _, cz] = camera.target_mm;
@@ -128,15 +147,15 @@ pub struct MeshPolygon {
     pub outward: DVec3,
 }
 
-/// The render polyhedron of `block`: each catalog face moved inward by `crack_mm / 2` and
+/// The render polyhedron of `block`: each catalog face `f` moved inward by `retract_mm[f]` and
 /// inset by `bevel_mm` within its plane; a bevel strip along every edge joins the two insets;
 /// a corner polygon at every vertex joins the insets of the faces that meet there.
-pub fn bevelled_block(block: &Block, bevel_mm: f64, crack_mm: f64) -> Vec<MeshPolygon> {
+pub fn bevelled_block(block: &Block, bevel_mm: f64, retract_mm: &[f64]) -> Vec<MeshPolygon> {
     let faces = block.block_type.faces();
     let normals: Vec<DVec3> = (0..faces.len())
         .map(|f| block.world_face_normal(f))
         .collect();
-    let shrunk = pull_faces_in(&block.world_vertices(), faces, &normals, crack_mm / 2.0);
+    let shrunk = pull_faces_in(&block.world_vertices(), faces, &normals, retract_mm);
     // inset[f][k]: face f's corner k after the in-plane inset.
     let inset: Vec<Vec<DVec3>> = faces
         .iter()
@@ -201,29 +220,26 @@ pub fn bevelled_block(block: &Block, bevel_mm: f64, crack_mm: f64) -> Vec<MeshPo
     out
 }
 
-/// Moves every vertex so that each face through it moves inward by `offset_mm` along its normal
-/// (exact where three faces meet; least squares where more do).
+/// Moves every vertex so that each face `f` through it moves inward by `offset_mm[f]` along its
+/// normal (exact where three faces meet; least squares where more do).
 fn pull_faces_in(
     vertices: &[DVec3],
     faces: &[&[u8]],
     normals: &[DVec3],
-    offset_mm: f64,
+    offset_mm: &[f64],
 ) -> Vec<DVec3> {
     vertices
         .iter()
         .enumerate()
         .map(|(v, p)| {
-            let ns: Vec<DVec3> = faces
-                .iter()
-                .zip(normals)
-                .filter(|(face, _)| face.contains(&(v as u8)))
-                .map(|(_, n)| *n)
-                .collect();
             let mut m = DMat3::ZERO;
             let mut rhs = DVec3::ZERO;
-            for n in &ns {
-                m += DMat3::from_cols(*n * n.x, *n * n.y, *n * n.z);
-                rhs -= *n * offset_mm;
+            for (f, face) in faces.iter().enumerate() {
+                if face.contains(&(v as u8)) {
+                    let n = normals[f];
+                    m += DMat3::from_cols(n * n.x, n * n.y, n * n.z);
+                    rhs -= n * offset_mm[f];
+                }
             }
             if m.determinant().abs() < 1e-9 {
                 return *p;
@@ -231,6 +247,111 @@ fn pull_faces_in(
             *p + m.inverse() * rhs
         })
         .collect()
+}
+
+/// Where blocks touch: per block and face whether it touches another block's face, and the
+/// black sheets (both sides) on the touching patches' middle planes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Contacts {
+    /// `touching[block][face]`.
+    pub touching: Vec<Vec<bool>>,
+    /// The touching patches (each twice, facing both ways).
+    pub sheets: Vec<MeshPolygon>,
+}
+
+/// Faces of different blocks closer than this along their (opposite) normals touch, mm: the
+/// exact drawing's seam tolerance (`truth::TruthTolerances::seam_mm`).
+const CONTACT_MM: f64 = 2.0 * crate::geom::CONTACT_TOL_MM;
+
+/// Finds the touching face pairs of `scene` (opposite normals, planes within [`CONTACT_MM`],
+/// polygons overlapping) among the block pairs whose boxes touch (`geom::touching_box_pairs`).
+pub fn find_contacts(scene: &Scene) -> Contacts {
+    let worlds: Vec<Vec<DVec3>> = scene.blocks.iter().map(|b| b.world_vertices()).collect();
+    let boxes: Vec<(DVec3, DVec3)> = worlds
+        .iter()
+        .map(|w| {
+            let (lo, hi) = crate::geom::bounds3(w.iter().copied()).unwrap_or_default();
+            (lo - DVec3::splat(CONTACT_MM), hi + DVec3::splat(CONTACT_MM))
+        })
+        .collect();
+    let mut out = Contacts {
+        touching: scene
+            .blocks
+            .iter()
+            .map(|b| vec![false; b.block_type.faces().len()])
+            .collect(),
+        sheets: Vec::new(),
+    };
+    for [a, b] in crate::geom::touching_box_pairs(&boxes) {
+        let (fa_all, fb_all) = (
+            scene.blocks[a].block_type.faces(),
+            scene.blocks[b].block_type.faces(),
+        );
+        for (fa, face_a) in fa_all.iter().enumerate() {
+            let na = scene.blocks[a].world_face_normal(fa);
+            let poly_a: Vec<DVec3> = face_a.iter().map(|&k| worlds[a][k as usize]).collect();
+            for (fb, face_b) in fb_all.iter().enumerate() {
+                let nb = scene.blocks[b].world_face_normal(fb);
+                let poly_b: Vec<DVec3> = face_b.iter().map(|&k| worlds[b][k as usize]).collect();
+                if na.dot(nb) > -0.9999 || na.dot(poly_b[0] - poly_a[0]).abs() > CONTACT_MM {
+                    continue;
+                }
+                let patch = clip_convex(&poly_a, &poly_b, nb);
+                if polygon_area(&patch) < 1e-3 {
+                    continue;
+                }
+                out.touching[a][fa] = true;
+                out.touching[b][fb] = true;
+                out.sheets.push(MeshPolygon {
+                    corners: patch.clone(),
+                    outward: na,
+                });
+                out.sheets.push(MeshPolygon {
+                    corners: patch,
+                    outward: nb,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The part of convex polygon `subject` inside convex polygon `clip` (counter-clockwise seen
+/// along `-clip_normal`, its outward normal), both in (nearly) one plane: Sutherland-Hodgman.
+fn clip_convex(subject: &[DVec3], clip: &[DVec3], clip_normal: DVec3) -> Vec<DVec3> {
+    let mut out = subject.to_vec();
+    for k in 0..clip.len() {
+        let (c0, c1) = (clip[k], clip[(k + 1) % clip.len()]);
+        let inward = clip_normal.cross(c1 - c0);
+        let side = |p: DVec3| inward.dot(p - c0);
+        let input = std::mem::take(&mut out);
+        for i in 0..input.len() {
+            let (p, q) = (input[i], input[(i + 1) % input.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                out.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+        if out.is_empty() {
+            break;
+        }
+    }
+    out
+}
+
+/// Area of a planar polygon, mm^2.
+fn polygon_area(corners: &[DVec3]) -> f64 {
+    let n = corners.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let twice: DVec3 = (1..n - 1)
+        .map(|k| (corners[k] - corners[0]).cross(corners[k + 1] - corners[0]))
+        .sum();
+    twice.length() / 2.0
 }
 
 /// The convex polygon `corners` (counter-clockwise seen from outside, along `-normal`)
@@ -309,7 +430,7 @@ mod tests {
 
     #[test]
     fn a_bevelled_cube_has_6_faces_12_strips_8_corners_and_stays_inside() {
-        let polygons = bevelled_block(&cube(), BEVEL_MM, CRACK_MM);
+        let polygons = bevelled_block(&cube(), BEVEL_MM, &[CRACK_MM / 2.0; 6]);
         assert_eq!(polygons.len(), 6 + 12 + 8);
         assert_eq!(polygons.iter().filter(|p| p.corners.len() == 3).count(), 8);
         let half = 7.5 - CRACK_MM / 2.0;
@@ -389,5 +510,29 @@ mod tests {
         assert_ne!(albedos[0], albedos[1]);
         assert_eq!(albedos, block_albedos(&scene, [0.8, 1.0], 3));
         assert_eq!(block_albedos(&scene, [0.9, 0.9], 3), vec![0.9; 20]);
+    }
+
+    #[test]
+    fn touching_blocks_get_a_crack_with_a_black_sheet_and_apart_blocks_none() {
+        let pair = |dx: f64| {
+            Scene::new(
+                "p",
+                vec![cube(), Block::new("b15", DVec3::new(dx, 7.5, 0.0), 0.0)],
+            )
+        };
+        let c = find_contacts(&pair(15.0));
+        assert_eq!(c.touching[0].iter().filter(|t| **t).count(), 1);
+        assert_eq!(c.touching[1].iter().filter(|t| **t).count(), 1);
+        assert_eq!(c.sheets.len(), 2);
+        assert!((polygon_area(&c.sheets[0].corners) - 225.0).abs() < 1e-9);
+        assert!(c.sheets[0].corners.iter().all(|p| (p.x - 7.5).abs() < 1e-9));
+        // Half overlapping (shifted 7.5 mm along z): half the patch.
+        let mut shifted = pair(15.0);
+        shifted.blocks[1].center_mm.z = 7.5;
+        let c = find_contacts(&shifted);
+        assert!((polygon_area(&c.sheets[0].corners) - 112.5).abs() < 1e-9);
+        let apart = find_contacts(&pair(15.5));
+        assert!(apart.sheets.is_empty());
+        assert!(apart.touching.iter().flatten().all(|t| !t));
     }
 }

@@ -223,10 +223,16 @@ fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> Pho
         near,
         far,
     );
-    let texel_mm = (vhi.x - vlo.x).max(vhi.y - vlo.y) / f64::from(super::gpu::photo::SHADOW_MAP_PX);
+    let texel_mm = (vhi.x - vlo.x + 2.0 * pad).max(vhi.y - vlo.y + 2.0 * pad)
+        / f64::from(super::gpu::photo::SHADOW_MAP_PX);
     PhotoUniforms {
         clip_from_world: camera.clip_from_world().as_mat4().to_cols_array(),
         light_clip_from_world: (proj * view).as_mat4().to_cols_array(),
+        light_clip_normal: glam::DMat4::from_mat3(
+            glam::DMat3::from_mat4(proj * view).inverse().transpose(),
+        )
+        .as_mat4()
+        .to_cols_array(),
         towards_light: light
             .towards_light
             .extend(light.diffuse)
@@ -234,12 +240,25 @@ fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> Pho
             .to_array(),
         params: [
             light.ambient as f32,
-            (SHADOW_BIAS_MM / (far - near)) as f32,
+            SHADOW_BIAS_MM as f32,
             (1.5 * texel_mm) as f32,
-            0.0,
+            texel_mm as f32,
+        ],
+        soft: [
+            light.angular_radius_deg.to_radians().tan() as f32,
+            (far - near) as f32,
+            BLOCKER_SEARCH_MM as f32,
+            MAX_PENUMBRA_MM as f32,
         ],
     }
 }
+
+/// Radius around a shaded point searched for occluders, mm (the widest penumbra a block of
+/// the catalog casts on its neighbours is about this).
+const BLOCKER_SEARCH_MM: f64 = 8.0;
+
+/// Largest penumbra radius, mm.
+const MAX_PENUMBRA_MM: f64 = 12.0;
 
 /// Depth bias of the shadow test, mm along the light: far below the crack's width.
 const SHADOW_BIAS_MM: f64 = 0.02;

@@ -39,7 +39,8 @@ impl RadianceImage {
 
 /// The sensor's parameters (README "Photographic look"); the defaults give a clean but real
 /// camera: a PSF of 0.7 px, 20,000 electrons at full well, 12 electrons of read noise, gamma
-/// 2.2 and a 15% corner falloff.
+/// 1 (the linear setting of machine-vision CCD cameras; 2.2 is the video setting) and a 15%
+/// corner falloff.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SensorModel {
     /// Standard deviation of the Gaussian point spread function, px; 0 = none.
@@ -62,7 +63,7 @@ impl Default for SensorModel {
             blur_sigma_px: 0.7,
             full_well_e: 20_000.0,
             read_noise_e: 12.0,
-            gamma: 2.2,
+            gamma: 1.0,
             vignetting: 0.15,
         }
     }
