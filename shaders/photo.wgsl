@@ -20,6 +20,8 @@ struct Photo {
     // linear part of light_clip_from_world): the receiver's plane in the shadow map, so each
     // filter tap compares against the receiver's own depth there, not its centre's.
     light_clip_normal: mat4x4<f32>,
+    // x: smallest penumbra radius, mm (even contact shadows are soft); yzw: unused.
+    soft_min: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> photo: Photo;
@@ -105,7 +107,7 @@ fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
         return 1.0;
     }
     let distance_mm = receiver_mm - blocker_mm / blockers;
-    let radius_mm = clamp(distance_mm * photo.soft.x, photo.params.w, photo.soft.w);
+    let radius_mm = clamp(distance_mm * photo.soft.x, photo.soft_min.x, photo.soft.w);
     let reference = (receiver_mm - photo.params.y) / photo.soft.y;
     var lit = 0.0;
     for (var i = 0; i < TAPS; i++) {

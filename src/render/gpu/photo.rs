@@ -37,6 +37,8 @@ pub struct PhotoUniforms {
     /// World normal to shadow clip-space plane normal (inverse transpose of the linear part of
     /// `light_clip_from_world`), column-major.
     pub light_clip_normal: [f32; 16],
+    /// Smallest penumbra radius (mm), then unused.
+    pub soft_min: [f32; 4],
 }
 
 /// Pipelines, shadow map and cached targets of the photo look; one per renderer.

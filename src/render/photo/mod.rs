@@ -250,12 +250,17 @@ fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> Pho
             BLOCKER_SEARCH_MM as f32,
             MAX_PENUMBRA_MM as f32,
         ],
+        soft_min: [MIN_PENUMBRA_MM as f32, 0.0, 0.0, 0.0],
     }
 }
 
 /// Radius around a shaded point searched for occluders, mm (the widest penumbra a block of
 /// the catalog casts on its neighbours is about this).
 const BLOCKER_SEARCH_MM: f64 = 8.0;
+
+/// Smallest penumbra radius, mm: where a shadow touches its occluder (a block on another's
+/// top) a hard shadow edge would draw a line no block has.
+const MIN_PENUMBRA_MM: f64 = 0.05;
 
 /// Largest penumbra radius, mm.
 const MAX_PENUMBRA_MM: f64 = 12.0;
