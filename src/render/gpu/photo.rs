@@ -17,7 +17,7 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Side of the square shadow map, texels: on a scene framed in 512 px, about four texels per
 /// picture pixel, fine enough for the crack's own shadow.
-pub const SHADOW_MAP_PX: u32 = 2048;
+pub const SHADOW_MAP_PX: u32 = 1024;
 
 /// Shader constants of one photo view (`Photo` in `shaders/photo.wgsl`).
 #[repr(C)]

@@ -100,7 +100,7 @@ impl PhotoOptions {
 
 /// Each side of the photo look's radiance target is this many times the picture's: the
 /// sensor pixel integrates the light over its area (a box average of 2 x 2 samples).
-pub const SUPERSAMPLING: u32 = 2;
+pub const SUPERSAMPLING: u32 = 1;
 
 impl Renderer {
     /// Renders the pixels of one view when the look is photo or the picture is downsampled: the
