@@ -109,10 +109,10 @@ impl Gpu {
 
     /// Grows the vertex buffer to hold `vertex_bytes` and (re)creates the targets for `size`.
     fn photo_buffers(&self, pass: &mut PhotoPass, vertex_bytes: u64, size: [u32; 2]) {
-        if !pass
+        if pass
             .vertices
             .as_ref()
-            .is_some_and(|b| b.size() >= vertex_bytes)
+            .is_none_or(|b| b.size() < vertex_bytes)
         {
             pass.vertices = Some(self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("photo vertices"),

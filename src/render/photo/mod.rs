@@ -187,7 +187,7 @@ impl Renderer {
         Ok(opts
             .photo
             .sensor
-            .expose(&radiance, noise_seed(opts.seed, view) ^ 0x5E45_0B))
+            .expose(&radiance, noise_seed(opts.seed, view) ^ 0x005E_450B))
     }
 }
 
