@@ -224,6 +224,42 @@ impl Camera {
         }
     }
 
+    /// The same camera describing its picture averaged `factor` x `factor` down (README
+    /// "Photographic look"; the thesis's 2 x 2 averaging, Ch. VI): `size_px` divided by
+    /// `factor`, the projection unchanged, so a world point lands on the written picture's px,
+    /// scaled by `1 / factor` from the full picture. Sides not divisible by `factor` drop their
+    /// remainder (as the averaging drops an odd last row or column).
+    pub fn downsampled(&self, factor: u32) -> Camera {
+        let f = factor.max(1);
+        let mut out = *self;
+        out.size_px = [self.size_px[0] / f, self.size_px[1] / f];
+        if out.size_px[0] * f != self.size_px[0] || out.size_px[1] * f != self.size_px[1] {
+            // The kept pixels span less than the full picture: shrink clip space to them.
+            let sx = (out.size_px[0] * f) as f64 / self.size_px[0] as f64;
+            let sy = (out.size_px[1] * f) as f64 / self.size_px[1] as f64;
+            let to_kept = DMat4::from_cols_array(&[
+                1.0 / sx,
+                0.0,
+                0.0,
+                0.0, //
+                0.0,
+                1.0 / sy,
+                0.0,
+                0.0, //
+                0.0,
+                0.0,
+                1.0,
+                0.0, //
+                1.0 / sx - 1.0,
+                1.0 - 1.0 / sy,
+                0.0,
+                1.0,
+            ]);
+            out.clip_from_view = (to_kept * self.projection_matrix()).to_cols_array();
+        }
+        out
+    }
+
     /// World to camera matrix.
     pub fn view_matrix(&self) -> DMat4 {
         DMat4::from_cols_array(&self.view_from_world)
@@ -398,5 +434,33 @@ mod tests {
         };
         let fill = 1.0 - 2.0 * 0.08;
         assert!((span(&xs) - 512.0 * fill).abs() < 1e-6 || (span(&ys) - 480.0 * fill).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_downsampled_camera_maps_points_to_the_averaged_picture() {
+        let full = Camera::frame(&cube_points(), CornerView::Se, &CameraOptions::default());
+        for factor in [2, 4] {
+            let small = full.downsampled(factor);
+            assert_eq!(small.size_px, [512 / factor, 480 / factor]);
+            for p in cube_points() {
+                let (a, b) = (full.picture_from_world(p), small.picture_from_world(p));
+                assert!((a.x / factor as f64 - b.x).abs() < 1e-9, "{a} {b}");
+                assert!((a.y / factor as f64 - b.y).abs() < 1e-9, "{a} {b}");
+            }
+        }
+        // An odd side: 5 px averaged 2 x 2 keeps 2 output px covering the first 4 input px;
+        // picture y is up, so the dropped bottom row shifts y by one input px.
+        let odd = CameraOptions {
+            size_px: [5, 5],
+            ..CameraOptions::default()
+        };
+        let full = Camera::frame(&cube_points(), CornerView::Ne, &odd);
+        let small = full.downsampled(2);
+        assert_eq!(small.size_px, [2, 2]);
+        for p in cube_points() {
+            let (a, b) = (full.picture_from_world(p), small.picture_from_world(p));
+            assert!((a.x / 2.0 - b.x).abs() < 1e-9, "{a} {b}");
+            assert!(((a.y - 1.0) / 2.0 - b.y).abs() < 1e-9, "{a} {b}");
+        }
     }
 }

@@ -4,7 +4,8 @@
 use anyhow::{bail, Context};
 use blockworld::camera::{CameraOptions, CornerView, Projection};
 use blockworld::geom::ISOMETRIC_ELEVATION_DEG;
-use blockworld::render::{Backend, RenderOptions};
+use blockworld::render::photo::sensor::SensorModel;
+use blockworld::render::{Backend, Look, PhotoOptions, RenderOptions};
 
 /// How views are rendered (README "Rendering").
 #[derive(Debug, Clone, clap::Args)]
@@ -40,6 +41,34 @@ pub struct ViewArgs {
     /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
     #[arg(long, default_value = "vulkan")]
     pub backend: String,
+    /// Picture look: lineart (flat faces with drawn seams, default) or photo (shading, shadows
+    /// and a camera sensor; README "Photographic look").
+    #[arg(long, default_value = "lineart")]
+    pub look: String,
+    /// Photo look: largest turn of the key light per scene, degrees (seeded).
+    #[arg(long, default_value_t = 0.0)]
+    pub light_jitter: f64,
+    /// Write the picture averaged 2x2 once (2) or twice (4), as the thesis did; 1 = no.
+    #[arg(long, default_value_t = 1)]
+    pub downsample: u32,
+    /// Photo look: block albedo range LO,HI (each block draws one, seeded).
+    #[arg(long, default_value = "0.8,1.0")]
+    pub block_albedo: String,
+    /// Photo sensor: optical blur, Gaussian PSF sigma in px.
+    #[arg(long, default_value_t = 0.7)]
+    pub sensor_blur: f64,
+    /// Photo sensor: electrons at full well (shot noise); 0 = no shot noise.
+    #[arg(long, default_value_t = 20_000.0)]
+    pub sensor_full_well: f64,
+    /// Photo sensor: read noise in electrons.
+    #[arg(long, default_value_t = 12.0)]
+    pub sensor_read_noise: f64,
+    /// Photo sensor: gamma (recorded level = radiance^(1/gamma)).
+    #[arg(long, default_value_t = 1.0)]
+    pub sensor_gamma: f64,
+    /// Photo sensor: share of light lost in the corners.
+    #[arg(long, default_value_t = 0.15)]
+    pub sensor_vignetting: f64,
 }
 
 impl ViewArgs {
@@ -108,10 +137,42 @@ impl ViewArgs {
             msaa: self.msaa,
             noise_sigma: self.noise,
             seed: self.seed,
+            look: Look::parse(&self.look).with_context(|| {
+                format!("--look: unknown {:?}; use lineart or photo", self.look)
+            })?,
+            downsample: self.downsample,
+            photo: self.photo_options()?,
         };
-        opts.validate()
-            .context("--elevation, --fov, --pixel-aspect, --msaa, --noise or --size")?;
+        opts.validate().context(
+            "--elevation, --fov, --pixel-aspect, --msaa, --noise, --size, --downsample, \
+             --light-jitter, --block-albedo or --sensor-*",
+        )?;
         Ok(opts)
+    }
+
+    /// The photo look's options from `--light-jitter`, `--block-albedo` and `--sensor-*`.
+    fn photo_options(&self) -> anyhow::Result<PhotoOptions> {
+        let range = self
+            .block_albedo
+            .split_once(',')
+            .and_then(|(a, b)| Some([a.trim().parse::<f64>().ok()?, b.trim().parse::<f64>().ok()?]))
+            .with_context(|| {
+                format!(
+                    "--block-albedo: expected LO,HI such as 0.8,1.0, got {:?}",
+                    self.block_albedo
+                )
+            })?;
+        Ok(PhotoOptions {
+            light_jitter_deg: self.light_jitter,
+            block_albedo_range: range,
+            sensor: SensorModel {
+                blur_sigma_px: self.sensor_blur,
+                full_well_e: self.sensor_full_well,
+                read_noise_e: self.sensor_read_noise,
+                gamma: self.sensor_gamma,
+                vignetting: self.sensor_vignetting,
+            },
+        })
     }
 }
 

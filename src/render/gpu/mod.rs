@@ -13,6 +13,7 @@
 //! pass draws the ground truth, so depth and ids are never blended.
 
 pub mod mesh;
+pub mod photo;
 
 use super::{Backend, RenderError};
 use mesh::Vertex;

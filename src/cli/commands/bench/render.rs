@@ -2,8 +2,9 @@
 //! (README "Rendering" target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
 //! Columns: render + readback (pixels only) one view per submission, the same with the four
 //! corner views in one submission (`Renderer::render_views_pixels`, as `generate` renders; time
-//! per view), the one-view render plus the exact line drawing (`Renderer::render`), and render +
-//! readback + PNG encoding of the three images.
+//! per view), the one-view render plus the exact line drawing (`Renderer::render`), render +
+//! readback + PNG encoding of the three images, and the photo look's render + readback (README
+//! "Photographic look"; a quarter of the iterations) with its ratio to line art's.
 
 use anyhow::Context;
 use blockworld::camera::CornerView;
@@ -84,8 +85,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (each cell: median / mean wall ms / CPU ms per view)",
         opts.camera.size_px[0], opts.camera.size_px[1], opts.msaa
     )?;
-    outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes |")?;
-    outln!("|---|---|---|---|---|")?;
+    outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
+    outln!("|---|---|---|---|---|---|---|")?;
+    let photo = RenderOptions {
+        look: blockworld::render::Look::Photo,
+        ..opts
+    };
     for n in [1, 10, 50] {
         let scene = bench_scene(n);
         scene
@@ -119,12 +124,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(e) = encode_error {
             return Err(e).context("encoding PNGs");
         }
+        for k in 0..4 {
+            renderer.render_pixels(&scene, CornerView::ALL[k % 4], &photo)?;
+        }
+        let photo_pixels = time_views(iterations.div_ceil(4).max(4), |view| {
+            renderer.render_pixels(&scene, view, &photo).map(|_| ())
+        })?;
         outln!(
-            "| {n} | {} | {} | {} | {} |",
+            "| {n} | {} | {} | {} | {} | {} | {:.1} x |",
             pixels.show(),
             four.show(),
             full.show(),
-            png.show()
+            png.show(),
+            photo_pixels.show(),
+            ms(photo_pixels.median) / ms(pixels.median).max(1e-9)
         )?;
     }
     Ok(())

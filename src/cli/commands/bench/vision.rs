@@ -9,7 +9,7 @@ use crate::cli::files::{read_camera, read_drawing, read_picture};
 use anyhow::{bail, Context};
 use blockworld::camera::{Camera, CornerView};
 use blockworld::drawing::LineDrawing;
-use blockworld::render::{Backend, RenderOptions, Renderer};
+use blockworld::render::{Backend, Look, RenderOptions, Renderer};
 use blockworld::vision::{
     detect_with_directions, edge_directions, line_angle_errors_deg, match_vertices_with_tolerances,
     MatchTolerances, VisionOptions,
@@ -51,6 +51,15 @@ pub struct Args {
     /// Largest side of --scaling, px.
     #[arg(long, default_value_t = 4096)]
     pub max_side: u32,
+    /// Picture look of the renders: lineart (default) or photo (README "Photographic look").
+    #[arg(long, default_value = "lineart")]
+    pub look: String,
+    /// Average the renders 2x2 once (2) or twice (4), as the thesis did.
+    #[arg(long, default_value_t = 1)]
+    pub downsample: u32,
+    /// Photo look: largest turn of the key light per scene, degrees.
+    #[arg(long, default_value_t = 0.0)]
+    pub light_jitter: f64,
 }
 
 /// One view to measure.
@@ -215,8 +224,12 @@ fn render_suite(args: &Args) -> anyhow::Result<Vec<Sample>> {
     let mut opts = RenderOptions {
         noise_sigma: args.noise,
         seed: args.seed,
+        look: Look::parse(&args.look)
+            .with_context(|| format!("--look: unknown {:?}; use lineart or photo", args.look))?,
+        downsample: args.downsample,
         ..Default::default()
     };
+    opts.photo.light_jitter_deg = args.light_jitter;
     if let Some(fov_y_deg) = args.perspective {
         if !(1.0..=170.0).contains(&fov_y_deg) {
             bail!("--perspective: {fov_y_deg} is out of range; use 1..=170 degrees");

@@ -1,0 +1,130 @@
+// blockworld photographic look (README "Photographic look"): linear radiance of a bevelled,
+// cracked render mesh (src/render/photo/mesh.rs) under a key light with a shadow map plus
+// ambient, no drawn ink. The sensor (blur, noise, gamma, quantization) runs on the CPU.
+
+struct Photo {
+    // World mm to clip space of the picture (Camera::clip_from_world).
+    clip_from_world: mat4x4<f32>,
+    // World mm to clip space of the key light's orthographic shadow camera.
+    light_clip_from_world: mat4x4<f32>,
+    // xyz: unit vector towards the light; w: diffuse intensity.
+    towards_light: vec4<f32>,
+    // x: ambient; y: depth bias, mm; z: receiver offset along its normal, mm; w: shadow
+    // map texel, mm.
+    params: vec4<f32>,
+    // x: tan of the key light's angular radius (an area light: soft shadows whose penumbra
+    // grows with the distance from the occluder); y: shadow camera depth range, mm; z: blocker
+    // search radius, mm; w: largest penumbra radius, mm.
+    soft: vec4<f32>,
+    // World normal to the shadow camera's clip-space plane normal (inverse transpose of the
+    // linear part of light_clip_from_world): the receiver's plane in the shadow map, so each
+    // filter tap compares against the receiver's own depth there, not its centre's.
+    light_clip_normal: mat4x4<f32>,
+    // x: smallest penumbra radius, mm (even contact shadows are soft); yzw: unused.
+    soft_min: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> photo: Photo;
+@group(0) @binding(1) var shadow_map: texture_depth_2d;
+@group(0) @binding(2) var shadow_sampler: sampler_comparison;
+
+struct VertexIn {
+    @location(0) position_mm: vec3<f32>,
+    @location(1) albedo: f32,
+    @location(2) normal: vec3<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_mm: vec3<f32>,
+    @location(1) @interpolate(flat) albedo: f32,
+    @location(2) @interpolate(flat) normal: vec3<f32>,
+};
+
+// The shadow pass: depth from the light only.
+@vertex
+fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
+    return photo.light_clip_from_world * vec4<f32>(v.position_mm, 1.0);
+}
+
+@vertex
+fn vs_photo(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = photo.clip_from_world * vec4<f32>(v.position_mm, 1.0);
+    out.world_mm = v.position_mm;
+    out.albedo = v.albedo;
+    out.normal = v.normal;
+    return out;
+}
+
+// Taps of the soft-shadow filters: a Vogel (golden-angle) spiral over the unit disk, turned
+// by a per-pixel angle so that too few taps give fine noise (which the sensor's blur
+// averages) instead of bands.
+const TAPS: i32 = 24;
+
+fn spiral_tap(i: i32, turn: f32) -> vec2<f32> {
+    let r = sqrt((f32(i) + 0.5) / f32(TAPS));
+    let a = f32(i) * 2.39996323 + turn;
+    return r * vec2<f32>(cos(a), sin(a));
+}
+
+// A fixed pseudo-random angle per pixel (interleaved gradient noise), radians.
+fn pixel_turn(frag: vec2<f32>) -> f32 {
+    return 6.2831853 * fract(52.9829189 * fract(dot(frag, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// Share of the key light reaching world point `p` with normal `n` (1 lit, 0 in shadow):
+// percentage-closer soft shadows of an area light. The mean depth of the occluders near the
+// point sets the penumbra (receiver-to-occluder distance times the light's angular radius),
+// then filtered comparisons over that disk. 1 outside the shadow map (nothing there
+// casts a shadow).
+fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
+    let q = photo.light_clip_from_world * vec4<f32>(p + n * photo.params.z, 1.0);
+    let ndc = q.xyz / q.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
+        return 1.0;
+    }
+    let size = vec2<f32>(textureDimensions(shadow_map));
+    // Depth change of the receiver's plane per unit of uv (clamped for grazing planes).
+    let g = (photo.light_clip_normal * vec4<f32>(n, 0.0)).xyz;
+    let slope = clamp(vec2<f32>(-2.0 * g.x, 2.0 * g.y) / max(abs(g.z), 1e-6) * sign(g.z), vec2<f32>(-1e3), vec2<f32>(1e3));
+    let uv_per_mm = 1.0 / (photo.params.w * size);
+    let receiver_mm = ndc.z * photo.soft.y;
+    var blockers = 0.0;
+    var blocker_mm = 0.0;
+    for (var i = 0; i < TAPS; i++) {
+        let at = uv + spiral_tap(i, turn) * photo.soft.z * uv_per_mm;
+        let texel = vec2<i32>(clamp(at, vec2<f32>(0.0), vec2<f32>(1.0)) * (size - 1.0));
+        let d_mm = textureLoad(shadow_map, texel, 0) * photo.soft.y;
+        let plane_mm = receiver_mm + dot(slope, at - uv) * photo.soft.y;
+        if (d_mm < plane_mm - photo.params.y) {
+            blockers += 1.0;
+            blocker_mm += d_mm;
+        }
+    }
+    if (blockers == 0.0) {
+        return 1.0;
+    }
+    let distance_mm = receiver_mm - blocker_mm / blockers;
+    let radius_mm = clamp(distance_mm * photo.soft.x, photo.soft_min.x, photo.soft.w);
+    let reference = (receiver_mm - photo.params.y) / photo.soft.y;
+    var lit = 0.0;
+    for (var i = 0; i < TAPS; i++) {
+        let at = uv + spiral_tap(i, turn) * radius_mm * uv_per_mm;
+        let tap_reference = reference + dot(slope, at - uv);
+        lit += textureSampleCompareLevel(shadow_map, shadow_sampler, at, tap_reference);
+    }
+    return lit / f32(TAPS);
+}
+
+@fragment
+fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
+    let cos_light = dot(in.normal, photo.towards_light.xyz);
+    var direct = 0.0;
+    if (cos_light > 0.0) {
+        direct = cos_light * photo.towards_light.w * light_share(in.world_mm, in.normal, pixel_turn(in.clip.xy));
+    }
+    let radiance = in.albedo * (photo.params.x + direct);
+    return vec4<f32>(radiance, 0.0, 0.0, 1.0);
+}

@@ -1,0 +1,538 @@
+//! The render mesh and light of the photographic look (README "Photographic look"): every
+//! block's catalog polyhedron with its faces pulled in by half a crack ([`CRACK_MM`]) and its
+//! edges and corners cut by a small bevel ([`BEVEL_MM`]), so edges catch the light as the
+//! thesis's wooden blocks do (Figure 6.3) and touching blocks leave a real narrow gap. The
+//! catalog, physics, exact drawing and scoring keep the sharp solid; only the picture sees this.
+//!
+//! Plain data, no wgpu.
+
+use super::super::gpu::mesh::light_in_world;
+use crate::camera::Camera;
+use crate::geom::DVec3;
+use crate::scene::{Block, Scene};
+use glam::DMat3;
+use rand::{Rng, SeedableRng};
+
+/// Width of the bevel cut along every block edge, measured in each face, mm.
+pub const BEVEL_MM: f64 = 0.05;
+
+/// Width of the crack between two touching blocks, mm: every face of a block moves inward by
+/// half of it.
+pub const CRACK_MM: f64 = 0.3;
+
+/// Ambient light (radiance of a white face in full shadow).
+pub const PHOTO_AMBIENT: f64 = 0.2;
+
+/// Diffuse intensity of the key light (radiance of a white face lit head-on, over ambient).
+pub const PHOTO_DIFFUSE: f64 = 0.65;
+
+/// Angular radius of the key light, degrees (a large softbox, about 90 cm across at 1 m): shadows
+/// are hard where they touch their occluder and soften with distance, so a block's shadow on a
+/// neighbour fades out instead of drawing a line.
+pub const KEY_LIGHT_RADIUS_DEG: f64 = 25.0;
+
+/// Albedo of the floor (dark cloth): lit floor well below a block's darkest lit face.
+pub const PHOTO_FLOOR_ALBEDO: f64 = 0.15;
+
+/// One vertex as `shaders/photo.wgsl` reads it (`VertexIn`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PhotoVertex {
+    /// World position, mm.
+    pub position_mm: [f32; 3],
+    /// Albedo of the surface, 0..=1.
+    pub albedo: f32,
+    /// Outward unit normal of the triangle, world.
+    pub normal: [f32; 3],
+    /// Padding to 32 bytes.
+    pub pad: f32,
+}
+
+/// The key light of one view: unit direction towards the light (world) and its diffuse
+/// intensity, plus the ambient share.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeyLight {
+    /// Unit vector from the scene towards the light, world.
+    pub towards_light: DVec3,
+    /// Diffuse intensity.
+    pub diffuse: f64,
+    /// Ambient radiance.
+    pub ambient: f64,
+    /// Angular radius of the light seen from the scene, degrees: an area light (a softbox)
+    /// whose shadows soften with the distance from the occluder.
+    pub angular_radius_deg: f64,
+}
+
+/// The key light for `camera`: the line-art light's direction (upper left, behind the camera,
+/// turning with the camera; [`light_in_world`]) turned by up to `jitter_deg` in azimuth and in
+/// elevation, the same turn for every view of a scene (seeded by the scene's `seed`);
+/// elevation stays within 10..=85 degrees.
+pub fn key_light(camera: &Camera, jitter_deg: f64, seed: u64) -> KeyLight {
+    let base = light_in_world(camera).normalize();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x11_6A7);
+    let (d_az, d_el) = if jitter_deg > 0.0 {
+        (
+            rng.random_range(-jitter_deg..=jitter_deg),
+            rng.random_range(-jitter_deg..=jitter_deg),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let el = (base.y.asin().to_degrees() + d_el)
+        .clamp(10.0, 85.0)
+        .to_radians();
+    let az = base.x.atan2(base.z) + d_az.to_radians();
+    KeyLight {
+        towards_light: DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()),
+        diffuse: PHOTO_DIFFUSE,
+        ambient: PHOTO_AMBIENT,
+        angular_radius_deg: KEY_LIGHT_RADIUS_DEG,
+    }
+}
+
+/// One albedo per block, uniform in `[lo, hi]`, seeded by the scene's `seed`.
+pub fn block_albedos(scene: &Scene, [lo, hi]: [f64; 2], seed: u64) -> Vec<f64> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xA1_BED0);
+    scene
+        .blocks
+        .iter()
+        .map(|_| {
+            if hi > lo {
+                rng.random_range(lo..=hi)
+            } else {
+                lo
+            }
+        })
+        .collect()
+}
+
+/// Triangles of every block (cracked and bevelled, [`bevelled_block`]) and then of the floor
+/// (a square at y = 0 under the camera target, as wide as the far clip distance). The faces of
+/// touching blocks draw back by half a crack each, and a black sheet fills the crack's middle
+/// plane where they touch: no light reaches the bottom of a narrow crack ([`find_contacts`]).
+pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<PhotoVertex> {
+    let mut out = Vec::with_capacity(6 + scene.blocks.len() * 44 * 3);
+    let contacts = find_contacts(scene);
+    for ((block, albedo), touching) in scene.blocks.iter().zip(albedos).zip(&contacts.touching) {
+        let retract_mm: Vec<f64> = touching
+            .iter()
+            .map(|t| if *t { CRACK_MM / 2.0 } else { 0.0 })
+            .collect();
+        for polygon in bevelled_block(block, BEVEL_MM, &retract_mm) {
+            push_polygon(&mut out, &polygon.corners, polygon.outward, *albedo);
+        }
+    }
+    for sheet in &contacts.sheets {
+        push_polygon(&mut out, &sheet.corners, sheet.outward, 0.0);
+    }
+    let half = camera.near_far_mm[1].max(1000.0);
+    let [cx, _, cz] = camera.target_mm;
+    let corner = |dx: f64, dz: f64| DVec3::new(cx + dx * half, 0.0, cz + dz * half);
+    let floor = [
+        corner(-1.0, -1.0),
+        corner(-1.0, 1.0),
+        corner(1.0, 1.0),
+        corner(1.0, -1.0),
+    ];
+    push_polygon(&mut out, &floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+    out
+}
+
+/// A flat convex polygon of the render mesh with its outward direction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshPolygon {
+    /// Corners, world mm.
+    pub corners: Vec<DVec3>,
+    /// Outward direction (not necessarily unit; the winding is fixed against it).
+    pub outward: DVec3,
+}
+
+/// The render polyhedron of `block`: each catalog face `f` moved inward by `retract_mm[f]` and
+/// inset by `bevel_mm` within its plane; a bevel strip along every edge joins the two insets;
+/// a corner polygon at every vertex joins the insets of the faces that meet there.
+pub fn bevelled_block(block: &Block, bevel_mm: f64, retract_mm: &[f64]) -> Vec<MeshPolygon> {
+    let faces = block.block_type.faces();
+    let normals: Vec<DVec3> = (0..faces.len())
+        .map(|f| block.world_face_normal(f))
+        .collect();
+    let shrunk = pull_faces_in(&block.world_vertices(), faces, &normals, retract_mm);
+    // inset[f][k]: face f's corner k after the in-plane inset.
+    let inset: Vec<Vec<DVec3>> = faces
+        .iter()
+        .zip(&normals)
+        .map(|(face, n)| {
+            let corners: Vec<DVec3> = face.iter().map(|&k| shrunk[k as usize]).collect();
+            inset_polygon(&corners, *n, bevel_mm)
+        })
+        .collect();
+    let mut out: Vec<MeshPolygon> = inset
+        .iter()
+        .zip(&normals)
+        .map(|(c, n)| MeshPolygon {
+            corners: c.clone(),
+            outward: *n,
+        })
+        .collect();
+    let corner_of = |f: usize, v: u8| {
+        let k = faces[f].iter().position(|&x| x == v)?;
+        Some(inset[f][k])
+    };
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            // Each edge once: from the face where it runs a -> b to the one where it runs b -> a.
+            let Some(g) = (0..faces.len()).find(|&g| {
+                g != f
+                    && (0..faces[g].len())
+                        .any(|j| faces[g][j] == b && faces[g][(j + 1) % faces[g].len()] == a)
+            }) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            if let (Some(fa), Some(fb), Some(gb), Some(ga)) = (
+                corner_of(f, a),
+                corner_of(f, b),
+                corner_of(g, b),
+                corner_of(g, a),
+            ) {
+                out.push(MeshPolygon {
+                    corners: vec![fa, ga, gb, fb],
+                    outward: normals[f] + normals[g],
+                });
+            }
+        }
+    }
+    for v in 0..block.block_type.vertices_mm().len() as u8 {
+        let around: Vec<usize> = (0..faces.len())
+            .filter(|&f| faces[f].contains(&v))
+            .collect();
+        let outward: DVec3 = around.iter().map(|&f| normals[f]).sum();
+        let points: Vec<DVec3> = around.iter().filter_map(|&f| corner_of(f, v)).collect();
+        if points.len() >= 3 {
+            out.push(MeshPolygon {
+                corners: sort_around(points, outward),
+                outward,
+            });
+        }
+    }
+    out
+}
+
+/// Moves every vertex so that each face `f` through it moves inward by `offset_mm[f]` along its
+/// normal (exact where three faces meet; least squares where more do).
+fn pull_faces_in(
+    vertices: &[DVec3],
+    faces: &[&[u8]],
+    normals: &[DVec3],
+    offset_mm: &[f64],
+) -> Vec<DVec3> {
+    vertices
+        .iter()
+        .enumerate()
+        .map(|(v, p)| {
+            let mut m = DMat3::ZERO;
+            let mut rhs = DVec3::ZERO;
+            for (f, face) in faces.iter().enumerate() {
+                if face.contains(&(v as u8)) {
+                    let n = normals[f];
+                    m += DMat3::from_cols(n * n.x, n * n.y, n * n.z);
+                    rhs -= n * offset_mm[f];
+                }
+            }
+            if m.determinant().abs() < 1e-9 {
+                return *p;
+            }
+            *p + m.inverse() * rhs
+        })
+        .collect()
+}
+
+/// Where blocks touch: per block and face whether it touches another block's face, and the
+/// black sheets (both sides) on the touching patches' middle planes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Contacts {
+    /// `touching[block][face]`.
+    pub touching: Vec<Vec<bool>>,
+    /// The touching patches (each twice, facing both ways).
+    pub sheets: Vec<MeshPolygon>,
+}
+
+/// Faces of different blocks closer than this along their (opposite) normals touch, mm: the
+/// exact drawing's seam tolerance (`truth::TruthTolerances::seam_mm`).
+const CONTACT_MM: f64 = 2.0 * crate::geom::CONTACT_TOL_MM;
+
+/// Finds the touching face pairs of `scene` (opposite normals, planes within [`CONTACT_MM`],
+/// polygons overlapping) among the block pairs whose boxes touch (`geom::touching_box_pairs`).
+pub fn find_contacts(scene: &Scene) -> Contacts {
+    let worlds: Vec<Vec<DVec3>> = scene.blocks.iter().map(|b| b.world_vertices()).collect();
+    let boxes: Vec<(DVec3, DVec3)> = worlds
+        .iter()
+        .map(|w| {
+            let (lo, hi) = crate::geom::bounds3(w.iter().copied()).unwrap_or_default();
+            (lo - DVec3::splat(CONTACT_MM), hi + DVec3::splat(CONTACT_MM))
+        })
+        .collect();
+    let mut out = Contacts {
+        touching: scene
+            .blocks
+            .iter()
+            .map(|b| vec![false; b.block_type.faces().len()])
+            .collect(),
+        sheets: Vec::new(),
+    };
+    for [a, b] in crate::geom::touching_box_pairs(&boxes) {
+        let (fa_all, fb_all) = (
+            scene.blocks[a].block_type.faces(),
+            scene.blocks[b].block_type.faces(),
+        );
+        for (fa, face_a) in fa_all.iter().enumerate() {
+            let na = scene.blocks[a].world_face_normal(fa);
+            let poly_a: Vec<DVec3> = face_a.iter().map(|&k| worlds[a][k as usize]).collect();
+            for (fb, face_b) in fb_all.iter().enumerate() {
+                let nb = scene.blocks[b].world_face_normal(fb);
+                let poly_b: Vec<DVec3> = face_b.iter().map(|&k| worlds[b][k as usize]).collect();
+                if na.dot(nb) > -0.9999 || na.dot(poly_b[0] - poly_a[0]).abs() > CONTACT_MM {
+                    continue;
+                }
+                let patch = clip_convex(&poly_a, &poly_b, nb);
+                if polygon_area(&patch) < 1e-3 {
+                    continue;
+                }
+                out.touching[a][fa] = true;
+                out.touching[b][fb] = true;
+                out.sheets.push(MeshPolygon {
+                    corners: patch.clone(),
+                    outward: na,
+                });
+                out.sheets.push(MeshPolygon {
+                    corners: patch,
+                    outward: nb,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The part of convex polygon `subject` inside convex polygon `clip` (counter-clockwise seen
+/// along `-clip_normal`, its outward normal), both in (nearly) one plane: Sutherland-Hodgman.
+fn clip_convex(subject: &[DVec3], clip: &[DVec3], clip_normal: DVec3) -> Vec<DVec3> {
+    let mut out = subject.to_vec();
+    for k in 0..clip.len() {
+        let (c0, c1) = (clip[k], clip[(k + 1) % clip.len()]);
+        let inward = clip_normal.cross(c1 - c0);
+        let side = |p: DVec3| inward.dot(p - c0);
+        let input = std::mem::take(&mut out);
+        for i in 0..input.len() {
+            let (p, q) = (input[i], input[(i + 1) % input.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                out.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+        if out.is_empty() {
+            break;
+        }
+    }
+    out
+}
+
+/// Area of a planar polygon, mm^2.
+fn polygon_area(corners: &[DVec3]) -> f64 {
+    let n = corners.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let twice: DVec3 = (1..n - 1)
+        .map(|k| (corners[k] - corners[0]).cross(corners[k + 1] - corners[0]))
+        .sum();
+    twice.length() / 2.0
+}
+
+/// The convex polygon `corners` (counter-clockwise seen from outside, along `-normal`)
+/// with every edge moved `inset_mm` inward within its plane.
+fn inset_polygon(corners: &[DVec3], normal: DVec3, inset_mm: f64) -> Vec<DVec3> {
+    let n = corners.len();
+    let inward: Vec<DVec3> = (0..n)
+        .map(|k| {
+            normal
+                .cross(corners[(k + 1) % n] - corners[k])
+                .normalize_or_zero()
+        })
+        .collect();
+    (0..n)
+        .map(|k| {
+            let (e0, e1) = (inward[(k + n - 1) % n], inward[k]);
+            let denom = 1.0 + e0.dot(e1);
+            if denom < 1e-6 {
+                return corners[k];
+            }
+            corners[k] + (e0 + e1) * (inset_mm / denom)
+        })
+        .collect()
+}
+
+/// `points` (a convex polygon's corners in any order) sorted counter-clockwise seen from the
+/// side `outward` points to.
+fn sort_around(mut points: Vec<DVec3>, outward: DVec3) -> Vec<DVec3> {
+    let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let axis = outward.normalize_or(DVec3::Y);
+    let u = (points[0] - centre)
+        .reject_from(axis)
+        .normalize_or(axis.any_orthonormal_vector());
+    let w = axis.cross(u);
+    let angle = |p: &DVec3| {
+        let d = *p - centre;
+        d.dot(w).atan2(d.dot(u))
+    };
+    points.sort_by(|a, b| angle(a).total_cmp(&angle(b)));
+    points
+}
+
+/// Fan-triangulates the convex polygon `corners`, each triangle wound counter-clockwise seen
+/// from `outward` and carrying its own unit normal; degenerate triangles are skipped.
+fn push_polygon(out: &mut Vec<PhotoVertex>, corners: &[DVec3], outward: DVec3, albedo: f64) {
+    for k in 1..corners.len().saturating_sub(1) {
+        let (a, mut b, mut c) = (corners[0], corners[k], corners[k + 1]);
+        let mut n = (b - a).cross(c - a);
+        if n.length() < 1e-12 {
+            continue;
+        }
+        if n.dot(outward) < 0.0 {
+            std::mem::swap(&mut b, &mut c);
+            n = -n;
+        }
+        let normal = n.normalize().as_vec3().to_array();
+        for p in [a, b, c] {
+            out.push(PhotoVertex {
+                position_mm: p.as_vec3().to_array(),
+                albedo: albedo as f32,
+                normal,
+                pad: 0.0,
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{CameraOptions, CornerView};
+
+    fn cube() -> Block {
+        Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)
+    }
+
+    #[test]
+    fn a_bevelled_cube_has_6_faces_12_strips_8_corners_and_stays_inside() {
+        let polygons = bevelled_block(&cube(), BEVEL_MM, &[CRACK_MM / 2.0; 6]);
+        assert_eq!(polygons.len(), 6 + 12 + 8);
+        assert_eq!(polygons.iter().filter(|p| p.corners.len() == 3).count(), 8);
+        let half = 7.5 - CRACK_MM / 2.0;
+        for p in &polygons {
+            for c in &p.corners {
+                let local = *c - DVec3::new(0.0, 7.5, 0.0);
+                assert!(local.abs().max_element() <= half + 1e-9, "{c}");
+            }
+        }
+        // A face's inset square: 15 - crack - 2 bevel on a side.
+        let top = polygons
+            .iter()
+            .find(|p| p.outward == DVec3::Y)
+            .expect("top face");
+        let side = (top.corners[1] - top.corners[0]).length();
+        assert!(
+            (side - (15.0 - CRACK_MM - 2.0 * BEVEL_MM)).abs() < 1e-9,
+            "{side}"
+        );
+        assert!(top
+            .corners
+            .iter()
+            .all(|c| (c.y - (15.0 - CRACK_MM / 2.0)).abs() < 1e-9));
+    }
+
+    #[test]
+    fn every_triangle_faces_outward_and_the_bevel_strips_lean_between_faces() {
+        let scene = Scene::new("c", vec![cube()]);
+        let cam = Camera::frame(
+            &cube().world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let v = photo_vertices(&scene, &cam, &[1.0]);
+        assert_eq!(v.len(), (6 * 2 + 12 * 2 + 8) * 3 + 6);
+        let centre = DVec3::new(0.0, 7.5, 0.0);
+        for t in v[..v.len() - 6].chunks(3) {
+            let p: Vec<DVec3> = t
+                .iter()
+                .map(|q| DVec3::from(q.position_mm.map(f64::from)))
+                .collect();
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            assert!(n.dot((p[0] + p[1] + p[2]) / 3.0 - centre) > 0.0);
+            assert!((n - DVec3::from(t[0].normal.map(f64::from))).length() < 1e-5);
+        }
+        let strip_normals = v[..v.len() - 6]
+            .chunks(3)
+            .filter(|t| {
+                let n = DVec3::from(t[0].normal.map(f64::from));
+                (n.abs().max_element() - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-5
+            })
+            .count();
+        assert_eq!(strip_normals, 12 * 2, "twelve 45-degree bevel strips");
+    }
+
+    #[test]
+    fn the_light_is_seeded_per_scene_and_albedos_stay_in_range() {
+        let cam = Camera::frame(
+            &cube().world_vertices(),
+            CornerView::Se,
+            &CameraOptions::default(),
+        );
+        let still = key_light(&cam, 0.0, 1);
+        let base = light_in_world(&cam).normalize();
+        assert!((still.towards_light - base).length() < 1e-9);
+        let a = key_light(&cam, 20.0, 1);
+        assert_eq!(a, key_light(&cam, 20.0, 1));
+        assert_ne!(a, key_light(&cam, 20.0, 2));
+        let turn = a.towards_light.dot(base).acos().to_degrees();
+        assert!(
+            turn > 0.0 && turn <= 20.0 * std::f64::consts::SQRT_2 + 1e-9,
+            "{turn}"
+        );
+        let scene = Scene::new("c", vec![cube(); 20]);
+        let albedos = block_albedos(&scene, [0.8, 1.0], 3);
+        assert!(albedos.iter().all(|a| (0.8..=1.0).contains(a)));
+        assert_ne!(albedos[0], albedos[1]);
+        assert_eq!(albedos, block_albedos(&scene, [0.8, 1.0], 3));
+        assert_eq!(block_albedos(&scene, [0.9, 0.9], 3), vec![0.9; 20]);
+    }
+
+    #[test]
+    fn touching_blocks_get_a_crack_with_a_black_sheet_and_apart_blocks_none() {
+        let pair = |dx: f64| {
+            Scene::new(
+                "p",
+                vec![cube(), Block::new("b15", DVec3::new(dx, 7.5, 0.0), 0.0)],
+            )
+        };
+        let c = find_contacts(&pair(15.0));
+        assert_eq!(c.touching[0].iter().filter(|t| **t).count(), 1);
+        assert_eq!(c.touching[1].iter().filter(|t| **t).count(), 1);
+        assert_eq!(c.sheets.len(), 2);
+        assert!((polygon_area(&c.sheets[0].corners) - 225.0).abs() < 1e-9);
+        assert!(c.sheets[0].corners.iter().all(|p| (p.x - 7.5).abs() < 1e-9));
+        // Half overlapping (shifted 7.5 mm along z): half the patch.
+        let mut shifted = pair(15.0);
+        shifted.blocks[1].center_mm.z = 7.5;
+        let c = find_contacts(&shifted);
+        assert!((polygon_area(&c.sheets[0].corners) - 112.5).abs() < 1e-9);
+        let apart = find_contacts(&pair(15.5));
+        assert!(apart.sheets.is_empty());
+        assert!(apart.touching.iter().flatten().all(|t| !t));
+    }
+}

@@ -1,0 +1,200 @@
+//! The photographic look (README "Photographic look"): goldens of two example scenes, ground
+//! truth that does not depend on the look, shading order of the faces, the crack between
+//! touching blocks, seeded noise and light, and the thesis's 2 x 2 averaging with a camera that
+//! describes the written picture.
+//!
+//! Every test needs an adapter: without one it prints a loud SKIP unless
+//! `BLOCKWORLD_REQUIRE_GPU` is set (`make test` sets it), in which case it fails.
+
+mod common;
+
+use blockworld::camera::CornerView;
+use blockworld::geom::DVec3;
+use blockworld::render::photo::sensor;
+use blockworld::render::{Look, RenderOptions, RenderedView};
+use blockworld::scene::{read_scene, Block, Scene};
+use common::{compare_golden, renderer, root, Tolerance};
+
+/// Photo goldens: lavapipe renders them bit-identically run to run on the blessing machine
+/// (golden/README.md); the allowance is for another Mesa/LLVM, whose shadow filter (24 taps of
+/// trigonometry per pixel) and f32 sensor arithmetic may round a level differently here and
+/// there: at most 0.5% of pixels, by at most 12 levels.
+const PHOTO_TOLERANCE: Tolerance = Tolerance {
+    max_differing_share: 0.005,
+    max_abs_diff: 12,
+};
+
+fn photo() -> RenderOptions {
+    RenderOptions {
+        look: Look::Photo,
+        ..Default::default()
+    }
+}
+
+fn example(name: &str) -> Scene {
+    read_scene(&root().join(format!("scenes/{name}.json"))).unwrap()
+}
+
+fn gray_at(v: &RenderedView, p_mm: DVec3) -> u8 {
+    let p = v.camera.picture_from_world(p_mm);
+    let h = v.gray.height() as f64;
+    v.gray
+        .get_pixel(p.x.floor() as u32, (h - p.y).floor() as u32)[0]
+}
+
+#[test]
+fn photo_goldens_of_the_thesis_sample_and_two_touching_cubes() {
+    let Some(r) = renderer() else { return };
+    let mut failures = Vec::new();
+    for name in ["thesis_sample", "two_cubes_touching"] {
+        let scene = example(name);
+        for view in [CornerView::Ne, CornerView::Sw] {
+            let v = r.render_pixels(&scene, view, &photo()).unwrap();
+            let golden = format!("photo/{name}/view_{}", view.name());
+            if let Err(e) = compare_golden(&golden, &v.gray, PHOTO_TOLERANCE) {
+                failures.push(e);
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn ground_truth_and_camera_do_not_depend_on_the_look() {
+    let Some(r) = renderer() else { return };
+    let scene = example("thesis_sample");
+    for view in [CornerView::Ne, CornerView::Se] {
+        let art = r.render(&scene, view, &RenderOptions::default()).unwrap();
+        let pic = r.render(&scene, view, &photo()).unwrap();
+        assert_eq!(art.camera, pic.camera);
+        assert!(art.depth == pic.depth, "depth of the sharp solids");
+        assert!(art.ids == pic.ids, "ids of the sharp solids");
+        assert_eq!(art.lines, pic.lines, "the exact drawing");
+        assert!(art.gray != pic.gray, "but the picture changes");
+    }
+}
+
+#[test]
+fn a_photographed_cube_shows_top_brighter_than_left_than_right_than_floor() {
+    let Some(r) = renderer() else { return };
+    let cube = Scene::new("c", vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)]);
+    let v = r.render_pixels(&cube, CornerView::Ne, &photo()).unwrap();
+    // NE camera at +x, -z: the visible sides are +x (left in the picture) and -z (right).
+    let top = gray_at(&v, DVec3::new(0.0, 15.0, 0.0));
+    let left = gray_at(&v, DVec3::new(7.5, 7.5, 0.0));
+    let right = gray_at(&v, DVec3::new(0.0, 7.5, -7.5));
+    let floor = gray_at(&v, DVec3::new(8.5, 0.0, -8.5));
+    assert!(
+        top > left + 20 && left > right + 20 && right > floor + 20,
+        "top {top}, left {left}, right {right}, floor {floor}"
+    );
+}
+
+#[test]
+fn the_crack_between_touching_blocks_is_dark_and_apart_blocks_have_none() {
+    let Some(r) = renderer() else { return };
+    let scene = example("two_cubes_touching");
+    let v = r.render_pixels(&scene, CornerView::Sw, &photo()).unwrap();
+    // The contact plane x = 0 meets the common front face z = 7.5 along a vertical crack.
+    let crack_min = (-2..=2)
+        .map(|d| {
+            let p = v.camera.picture_from_world(DVec3::new(0.0, 3.75, 7.5));
+            let h = v.gray.height() as f64;
+            v.gray
+                .get_pixel((p.x.floor() as i64 + d) as u32, (h - p.y).floor() as u32)[0]
+        })
+        .min()
+        .unwrap();
+    let beside =
+        gray_at(&v, DVec3::new(-2.0, 3.75, 7.5)).min(gray_at(&v, DVec3::new(2.0, 3.75, 7.5)));
+    assert!(
+        crack_min + 20 < beside,
+        "crack {crack_min}, faces beside {beside}"
+    );
+    // Moved 2 mm apart the faces do not touch: no black sheet.
+    let mut apart = scene.clone();
+    apart.blocks[1].center_mm.x += 2.0;
+    let contacts = blockworld::render::photo::mesh::find_contacts(&apart);
+    assert!(contacts.sheets.is_empty());
+}
+
+#[test]
+fn noise_and_light_are_seeded_and_the_picture_is_deterministic() {
+    let Some(r) = renderer() else { return };
+    let scene = example("thesis_sample");
+    let with = |seed: u64, jitter: f64| {
+        let mut o = photo();
+        o.seed = seed;
+        o.photo.light_jitter_deg = jitter;
+        r.render_pixels(&scene, CornerView::Nw, &o).unwrap().gray
+    };
+    let a = with(3, 0.0);
+    assert!(a == with(3, 0.0), "same seed, same bytes");
+    assert!(a != with(4, 0.0), "another seed, other noise and albedos");
+    let mut quiet = photo();
+    quiet.photo.sensor = sensor::SensorModel::IDEAL;
+    quiet.photo.block_albedo_range = [0.9, 0.9];
+    let q3 = {
+        quiet.seed = 3;
+        r.render_pixels(&scene, CornerView::Nw, &quiet)
+            .unwrap()
+            .gray
+    };
+    let q4 = {
+        quiet.seed = 4;
+        r.render_pixels(&scene, CornerView::Nw, &quiet)
+            .unwrap()
+            .gray
+    };
+    assert!(
+        q3 == q4,
+        "without noise, jitter or albedo range the seed changes nothing"
+    );
+    quiet.photo.light_jitter_deg = 20.0;
+    let j3 = r
+        .render_pixels(&scene, CornerView::Nw, &quiet)
+        .unwrap()
+        .gray;
+    assert!(j3 != q4, "the jittered light turns");
+}
+
+#[test]
+fn downsampled_views_describe_the_written_picture() {
+    let Some(r) = renderer() else { return };
+    let scene = example("thesis_sample");
+    let full = r
+        .render(&scene, CornerView::Ne, &RenderOptions::default())
+        .unwrap();
+    for look in [Look::LineArt, Look::Photo] {
+        for factor in [2u32, 4] {
+            let opts = RenderOptions {
+                look,
+                downsample: factor,
+                ..Default::default()
+            };
+            let small = r.render(&scene, CornerView::Ne, &opts).unwrap();
+            let size = [512 / factor, 480 / factor];
+            assert_eq!(small.camera.size_px, size);
+            assert_eq!(small.gray.dimensions(), (size[0], size[1]));
+            assert_eq!(small.depth.dimensions(), (size[0], size[1]));
+            assert_eq!(small.ids.dimensions(), (size[0], size[1]));
+            assert_eq!(small.lines.lines, full.lines.lines);
+            for (p, q) in small.lines.points.iter().zip(&full.lines.points) {
+                assert!((*p - *q / factor as f64).length() < 1e-6, "{p} vs {q}");
+            }
+            if look == Look::LineArt {
+                let expected = sensor::downsample(&full.gray, factor);
+                assert!(small.gray == expected, "line art averaged {factor}x");
+            }
+        }
+    }
+    let bad = RenderOptions {
+        downsample: 3,
+        ..Default::default()
+    };
+    let e = r
+        .render(&scene, CornerView::Ne, &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("downsample 3"), "{e}");
+}
