@@ -276,12 +276,14 @@ pub fn catalog_proposals_where(
         })
         .collect();
     for &y_top in levels_mm {
+        // The top corner first (as `measure_on` finds it): most levels end here.
+        let corner = ray_at_height(rays.ray(p.vertex.at_px), y_top);
+        if !corner.is_some_and(corner_ok) {
+            continue;
+        }
         let Some(m) = measure_on(p, drawing, camera, &rays, y_top, tol) else {
             continue;
         };
-        if !corner_ok(m.vertex_mm) {
-            continue;
-        }
         let (corner, axes, min_len) = (m.vertex_mm, m.axes, m.visible_side_mm);
         let min_height = m.height_mm.unwrap_or(0.0);
         for &(t, yaw, (fx, fz), h) in &shapes {

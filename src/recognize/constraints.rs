@@ -118,32 +118,32 @@ pub fn floating_blocks(blocks: &[Block], tol_mm: f64) -> Vec<usize> {
 /// corner direction". Sampled on a `step_mm` grid inside the footprint.
 pub fn overhanging_blocks(blocks: &[Block], tol_mm: f64, step_mm: f64) -> Vec<usize> {
     (0..blocks.len())
-        .filter(|&i| {
-            let b = &blocks[i];
-            let (lo, hi) = bounds_mm(b);
-            if lo.y <= tol_mm {
-                return false;
-            }
-            let under: Vec<(DVec3, DVec3)> = supports(b, blocks, tol_mm)
-                .iter()
-                .map(|s| bounds_mm(s))
-                .collect();
-            let nx = ((hi.x - lo.x) / step_mm).ceil().max(1.0) as usize;
-            let nz = ((hi.z - lo.z) / step_mm).ceil().max(1.0) as usize;
-            (0..=nx).any(|ix| {
-                (0..=nz).any(|iz| {
-                    let x = lo.x + tol_mm + (hi.x - lo.x - 2.0 * tol_mm) * ix as f64 / nx as f64;
-                    let z = lo.z + tol_mm + (hi.z - lo.z - 2.0 * tol_mm) * iz as f64 / nz as f64;
-                    !under.iter().any(|(l, h)| {
-                        x >= l.x - tol_mm
-                            && x <= h.x + tol_mm
-                            && z >= l.z - tol_mm
-                            && z <= h.z + tol_mm
-                    })
-                })
+        .filter(|&i| overhangs(&blocks[i], blocks, tol_mm, step_mm))
+        .collect()
+}
+
+/// `true` when block `b`, above the floor, overhangs what it rests on among `blocks` (the test
+/// of [`overhanging_blocks`] for one block; `b` itself may be among `blocks`).
+pub fn overhangs(b: &Block, blocks: &[Block], tol_mm: f64, step_mm: f64) -> bool {
+    let (lo, hi) = bounds_mm(b);
+    if lo.y <= tol_mm {
+        return false;
+    }
+    let under: Vec<(DVec3, DVec3)> = supports(b, blocks, tol_mm)
+        .iter()
+        .map(|s| bounds_mm(s))
+        .collect();
+    let nx = ((hi.x - lo.x) / step_mm).ceil().max(1.0) as usize;
+    let nz = ((hi.z - lo.z) / step_mm).ceil().max(1.0) as usize;
+    (0..=nx).any(|ix| {
+        (0..=nz).any(|iz| {
+            let x = lo.x + tol_mm + (hi.x - lo.x - 2.0 * tol_mm) * ix as f64 / nx as f64;
+            let z = lo.z + tol_mm + (hi.z - lo.z - 2.0 * tol_mm) * iz as f64 / nz as f64;
+            !under.iter().any(|(l, h)| {
+                x >= l.x - tol_mm && x <= h.x + tol_mm && z >= l.z - tol_mm && z <= h.z + tol_mm
             })
         })
-        .collect()
+    })
 }
 
 #[cfg(test)]

@@ -20,8 +20,9 @@
 
 use super::catalog_match::{blocks_overlap, bounds_mm};
 use super::compare::PooledCandidate;
-use super::constraints::overhanging_blocks;
+use super::constraints::overhangs;
 use super::{Camera, ObservedView, SAME_PLACE_TOL_MM};
+use crate::camera::Projector;
 use crate::geom::{convex_hull, inside_convex, DVec2, DVec3};
 use crate::scene::Block;
 use std::cmp::Reverse;
@@ -35,36 +36,38 @@ pub fn well_supported(pool: &[PooledCandidate], view_count: usize) -> Vec<usize>
         .collect()
 }
 
-/// The convex hull of each view's observed points, in view order: a bound of the sample's
-/// silhouette in that picture.
-pub(super) fn silhouettes(views: &[ObservedView]) -> Vec<Vec<DVec2>> {
-    views
-        .iter()
-        .map(|v| convex_hull(&v.drawing.points))
-        .collect()
+/// Each view's silhouette bound, the convex hull of its observed points, with the view's
+/// projection ready for many points.
+pub(super) struct Silhouettes {
+    views: Vec<(Projector, Vec<DVec2>)>,
 }
 
-/// `true` when the world point `q_mm` projects inside every view's silhouette hull (within
-/// `tol_px`): a point of the sample is seen inside the sample's outline in every picture.
-pub(super) fn inside_every_silhouette(
-    q_mm: DVec3,
-    views: &[ObservedView],
-    hulls: &[Vec<DVec2>],
-    tol_px: f64,
-) -> bool {
-    views.iter().zip(hulls).all(|(v, hull)| {
-        let p = v.camera.picture_from_world(q_mm).truncate();
-        inside_convex(hull, p, tol_px)
-    })
+impl Silhouettes {
+    /// The silhouettes of `views`, in view order.
+    pub(super) fn new(views: &[ObservedView]) -> Silhouettes {
+        let views = views
+            .iter()
+            .map(|v| (Projector::new(&v.camera), convex_hull(&v.drawing.points)))
+            .collect();
+        Silhouettes { views }
+    }
+
+    /// `true` when the world point `q_mm` projects inside every view's silhouette (within
+    /// `tol_px`): a point of the sample is seen inside the sample's outline in every picture.
+    pub(super) fn hold(&self, q_mm: DVec3, tol_px: f64) -> bool {
+        self.views
+            .iter()
+            .all(|(proj, hull)| inside_convex(hull, proj.picture(q_mm), tol_px))
+    }
 }
 
 /// `true` when every corner of `b` projects inside the convex hull of the observed points of
 /// every view (within `tol_px`): a block of the sample lies inside the sample's silhouette in
 /// every picture, so a candidate reaching outside any of them is not one.
-fn inside_every_view(b: &Block, views: &[ObservedView], hulls: &[Vec<DVec2>], tol_px: f64) -> bool {
+fn inside_every_view(b: &Block, silhouettes: &Silhouettes, tol_px: f64) -> bool {
     b.world_vertices()
         .into_iter()
-        .all(|c| inside_every_silhouette(c, views, hulls, tol_px))
+        .all(|c| silhouettes.hold(c, tol_px))
 }
 
 /// `true` when `b` stands on the floor or on `chosen` without overhanging (Chapter VII: every
@@ -73,9 +76,7 @@ fn rests_on(b: &Block, chosen: &[Block]) -> bool {
     if b.bottom_mm() <= SAME_PLACE_TOL_MM {
         return true;
     }
-    let mut with = chosen.to_vec();
-    with.push(*b);
-    !overhanging_blocks(&with, SAME_PLACE_TOL_MM, SUPPORT_STEP_MM).contains(&chosen.len())
+    !overhangs(b, chosen, SAME_PLACE_TOL_MM, SUPPORT_STEP_MM)
 }
 
 /// The sampling step of the support test, mm (a sixth of the smallest catalog side).
@@ -89,10 +90,10 @@ pub fn direct_hypothesis(
     views: &[ObservedView],
     tol_px: f64,
 ) -> Vec<Block> {
-    let hulls = silhouettes(views);
+    let silhouettes = Silhouettes::new(views);
     let candidates: Vec<usize> = well_supported(pool, views.len())
         .into_iter()
-        .filter(|&i| inside_every_view(&pool[i].block, views, &hulls, tol_px))
+        .filter(|&i| inside_every_view(&pool[i].block, &silhouettes, tol_px))
         .collect();
     let ghost = |c: &PooledCandidate, chosen: &[Block], settled: bool| {
         is_ghost(c, chosen, views, tol_px, settled)
@@ -191,7 +192,7 @@ fn take_lowest_first(
     mut indices: Vec<usize>,
     ghost: &dyn Fn(&PooledCandidate, &[Block], bool) -> bool,
 ) -> Vec<Block> {
-    indices.sort_by_key(|&i| {
+    indices.sort_by_cached_key(|&i| {
         let c = &pool[i];
         let size = c.block.block_type.size_mm();
         (
@@ -293,10 +294,10 @@ mod tests {
         let views = views_of(truth, &CornerView::ALL);
         let opts = RecognizeOptions::default();
         let pool = super::super::propose_and_pool(&views, &opts, true, &mut Default::default());
-        let hulls = silhouettes(&views);
+        let silhouettes = Silhouettes::new(&views);
         let candidates: Vec<usize> = well_supported(&pool, views.len())
             .into_iter()
-            .filter(|&i| inside_every_view(&pool[i].block, &views, &hulls, opts.tol_px))
+            .filter(|&i| inside_every_view(&pool[i].block, &silhouettes, opts.tol_px))
             .collect();
         let blind = take_lowest_first(&pool, candidates, &|_, _, _| false);
         (direct_hypothesis(&pool, &views, opts.tol_px), blind)

@@ -66,7 +66,7 @@ use crate::drawing::LineDrawing;
 use crate::scene::{Block, ReconStatus, ViewEvidence};
 use ambiguity::alternative_given_drawings;
 use compare::{choose_hypothesis, greedy_and_split_from, Hypothesis};
-use direct::{inside_every_silhouette, silhouettes};
+use direct::Silhouettes;
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -364,13 +364,8 @@ fn propose_and_pool(
 ) -> Vec<PooledCandidate> {
     let levels = level_heights_mm(opts.max_height_mm);
     evidence.views.clear();
-    let hulls = if fit_only {
-        silhouettes(views)
-    } else {
-        Vec::new()
-    };
-    let corner_ok =
-        |q: crate::geom::DVec3| !fit_only || inside_every_silhouette(q, views, &hulls, opts.tol_px);
+    let silhouettes = Silhouettes::new(if fit_only { views } else { &[] });
+    let corner_ok = |q: crate::geom::DVec3| !fit_only || silhouettes.hold(q, opts.tol_px);
     let mut per_view = Vec::new();
     for v in views {
         let (proposals, ev) = propose(v, &levels, opts, fit_only, &corner_ok);
