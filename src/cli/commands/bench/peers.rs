@@ -390,7 +390,7 @@ fn print_table(args: &Args, r: &Rounds) -> anyhow::Result<()> {
         show(&r.bw_vision_ms),
         show(&r.opencv_ms)
     )?;
-    outln!("settle is not compared here (no PyBullet settle script among the peers)")
+    outln!("settle against PyBullet: `blockworld bench settle --pybullet PYTHON` (the peer stack in both, same run)")
 }
 
 #[cfg(test)]
