@@ -11,17 +11,23 @@
 //!    0 up, 1 down, 2 left-up, 3 left-down, 4 right-up, 5 right-down; Appendix A's table uses
 //!    another order and is not followed) and junction class (Ch. V "Y" and collinear "T").
 //!
+//! 4. [`find_curved_edges`]: the edges that are not straight (a round part's rims, Chapter
+//!    VII's "circles") reported as curves, chains of chords flagged in `curved_lines` as in the
+//!    exact drawing, instead of being chopped into straight pieces or dropped.
+//!
 //! [`detect_line_drawing`] runs all three after checking the picture against its camera;
 //! [`match_vertices`] measures a drawing against ground truth (`lines_<view>.json`).
 //! Picture coordinates are those of `geom`: px, x right, y up, origin at the bottom-left corner,
 //! raster row `r` at `y = H - r - 0.5`. No file I/O happens here.
 
+mod curves;
 mod edges;
 mod error;
 mod eval;
 mod lines;
 mod vertices;
 
+pub use curves::{add_curved_edges, find_curved_edges, fit_circle, CurvedEdge};
 pub use edges::{
     detect_edges, smooth_3x3, sobel_magnitude, threshold, EdgeOptions, MagnitudeImage, SmoothWindow,
 };
@@ -230,10 +236,14 @@ fn detect_from_edges(
     let t = std::time::Instant::now();
     let lines = fit_lines(&edges, directions, &opts.lines);
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
+    let (curves, lines) = find_curved_edges(&edges, &lines);
     timings.lines_ms = ms_since(t);
     progress(4, VISION_STEPS);
     let t = std::time::Instant::now();
-    let drawing = find_vertices(&lines, &opts.vertices);
+    let mut drawing = find_vertices(&lines, &opts.vertices);
+    if !curves.is_empty() {
+        add_curved_edges(&mut drawing, &curves);
+    }
     timings.vertices_ms = ms_since(t);
     progress(5, VISION_STEPS);
     Detection {

@@ -1,0 +1,365 @@
+//! Curved edges of the edge map (thesis Chapter VII: "with other kinds of blocks like pyramids
+//! or circles, the parallelogram surface searching fails"). A round part's rims project to
+//! ellipses; the straight-line finder ([`super::fit_lines`]) sees only pieces of them, where the
+//! ellipse runs along a block direction for a while, and drops the rest. This step reports them
+//! as curves instead, the way the exact drawing does (README "The exact line drawing":
+//! `curved_lines`, chords of the curve):
+//!
+//! 1. **Residue**: the edge pixels farther than [`NEAR_LINE_PX`] from every fitted straight line
+//!    are grouped into 8-connected pieces (bridging gaps up to [`BRIDGE_PX`]).
+//! 2. **Chords found as lines**: a fitted line with residue at both ends whose own pixels and
+//!    the residue within [`END_REACH_PX`] of its ends lie on one circle (RMS at most
+//!    [`MAX_CIRCLE_RMS_PX`]) is a piece of a curve, not an edge: it joins the pieces it touches.
+//!    A straight silhouette generator fails this test, since the rim bends away at its ends.
+//! 3. **Curves**: a group of at least [`MIN_CURVE_PX`] pixels that bulges at least
+//!    [`MIN_SAGITTA_PX`] from its best straight line is ordered by angle about its centroid (an
+//!    arc of an ellipse is convex, so the order follows the arc), averaged into points about
+//!    [`CHORD_PX`] apart, and kept when its pixels lie within [`MAX_OFF_CURVE_PX`] (RMS) of that
+//!    polyline and it turns one way only.
+//!
+//! Block scenes leave only small blobs at junctions in the residue, so their drawings are
+//! unchanged.
+
+use super::lines::{fit_line_least_squares, picture_from_raster, FittedLine};
+use crate::drawing::LineDrawing;
+use crate::geom::{DMat3, DVec2, DVec3, UnionFind};
+use image::GrayImage;
+
+/// An edge pixel within this distance of a fitted straight segment belongs to it, px.
+pub const NEAR_LINE_PX: f64 = 2.5;
+/// Residue pixels this close (Chebyshev distance, px) belong to one piece.
+pub const BRIDGE_PX: i64 = 2;
+/// Residue within this distance of a line's end is the curve continuing there, px: far
+/// enough that a rim bending away from a silhouette generator (radius of curvature about 30 px
+/// at 512 x 480) departs from the generator's line by several pixels.
+pub const END_REACH_PX: f64 = 15.0;
+/// At most this RMS distance from one circle for a line to be a piece of a curve, px.
+pub const MAX_CIRCLE_RMS_PX: f64 = 2.0;
+/// A curve has at least this many edge pixels.
+pub const MIN_CURVE_PX: usize = 40;
+/// A curve departs at least this far from its best straight line, px.
+pub const MIN_SAGITTA_PX: f64 = 2.0;
+/// Distance between consecutive points of a reported curve, px (arc length, about).
+pub const CHORD_PX: f64 = 8.0;
+/// RMS distance of a curve's pixels from its polyline, at most, px.
+pub const MAX_OFF_CURVE_PX: f64 = 1.5;
+
+/// A chord of a curve may turn against the curve's sense by at most this, degrees.
+pub const MAX_REVERSE_DEG: f64 = 6.0;
+
+/// A chord of a curve turns by at most this, degrees: a rim seen at 512 x 480 turns by up to
+/// about 20 degrees per [`CHORD_PX`] at the ends of its ellipse, a corner of blocks by more.
+pub const MAX_TURN_DEG: f64 = 30.0;
+/// Chords in a run that must turn by [`MIN_RUN_TURN_DEG`] together.
+pub const STRAIGHT_RUN_CHORDS: usize = 4;
+/// Least total turn of [`STRAIGHT_RUN_CHORDS`] chords in a row of a curve, degrees: an ellipse
+/// of radius of curvature up to 600 px turns by more over 32 px.
+pub const MIN_RUN_TURN_DEG: f64 = 3.0;
+
+/// A curved edge found in a picture: a polyline whose points lie on the curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvedEdge {
+    /// The polyline's points in order along the curve, picture px.
+    pub points_px: Vec<DVec2>,
+    /// Whether the curve closes (the last point joins the first): a whole ellipse.
+    pub closed: bool,
+}
+
+/// Splits `lines` (fitted on `edges`) into the straight edges and the curves of the picture
+/// (steps 1-3 of the module doc): returns the curves and the lines that are not pieces of them.
+pub fn find_curved_edges(
+    edges: &GrayImage,
+    lines: &[FittedLine],
+) -> (Vec<CurvedEdge>, Vec<FittedLine>) {
+    let (per_line, residue) = assign_pixels(edges, lines);
+    let mut groups = residue_pieces(&residue, edges.width(), edges.height());
+    let mut candidates: Vec<(f64, usize, Vec<usize>)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(li, l)| {
+            chord_of_curve(l, &per_line[li], &groups).map(|(rms, touched)| (rms, li, touched))
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut sets = UnionFind::new(groups.len());
+    let mut chord_lines = Vec::new();
+    for (_, li, touched) in candidates {
+        let mut roots: Vec<usize> = touched.iter().map(|&p| sets.find(p)).collect();
+        roots.sort_unstable();
+        roots.dedup();
+        let mut merged = per_line[li].clone();
+        for &r in &roots {
+            merged.extend_from_slice(&groups[r]);
+        }
+        if curve_through(&merged).is_none() {
+            continue;
+        }
+        for &r in &roots {
+            sets.union(roots[0], r);
+            groups[r].clear();
+        }
+        groups[sets.find(roots[0])] = merged;
+        chord_lines.push(li);
+    }
+    let curves = groups.iter().filter_map(|g| curve_through(g)).collect();
+    let straight = (0..lines.len())
+        .filter(|li| !chord_lines.contains(li))
+        .map(|li| lines[li])
+        .collect();
+    (curves, straight)
+}
+
+/// Distance from `p` to the segment of `line`, px.
+fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
+    let (a, b) = (line.along_px(line.from_px), line.along_px(line.to_px));
+    let t = line.along_px(p);
+    let beyond = (a.min(b) - t).max(t - a.max(b)).max(0.0);
+    line.signed_distance_px(p).hypot(beyond)
+}
+
+/// The edge pixels (picture px) of each line (those within [`NEAR_LINE_PX`] of it, each to its
+/// nearest line) and the residue, the pixels near no line.
+fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
+    let (w, h) = edges.dimensions();
+    let mut per_line = vec![Vec::new(); lines.len()];
+    let mut residue = Vec::new();
+    for (i, v) in edges.as_raw().iter().enumerate() {
+        if *v == 0 {
+            continue;
+        }
+        let p = picture_from_raster(i as u32 % w, i as u32 / w, h);
+        let nearest = lines
+            .iter()
+            .map(|l| distance_to_line_px(l, p))
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        match nearest {
+            Some((li, d)) if d <= NEAR_LINE_PX => per_line[li].push(p),
+            _ => residue.push(p),
+        }
+    }
+    (per_line, residue)
+}
+
+/// The residue grouped into pieces: pixels within [`BRIDGE_PX`] (Chebyshev) of each other
+/// join one piece. Pieces in raster order of their first pixel.
+fn residue_pieces(residue: &[DVec2], w: u32, h: u32) -> Vec<Vec<DVec2>> {
+    let (w, h) = (w as i64, h as i64);
+    let cell = |p: DVec2| ((p.x - 0.5) as i64, (h as f64 - 0.5 - p.y) as i64);
+    let mut index = vec![usize::MAX; (w * h) as usize];
+    for (i, p) in residue.iter().enumerate() {
+        let (c, r) = cell(*p);
+        index[(r * w + c) as usize] = i;
+    }
+    let mut sets = UnionFind::new(residue.len());
+    for (i, p) in residue.iter().enumerate() {
+        let (c, r) = cell(*p);
+        for dr in -BRIDGE_PX..=BRIDGE_PX {
+            for dc in -BRIDGE_PX..=BRIDGE_PX {
+                let (cc, rr) = (c + dc, r + dr);
+                if cc >= 0 && rr >= 0 && cc < w && rr < h {
+                    let j = index[(rr * w + cc) as usize];
+                    if j != usize::MAX {
+                        sets.union(i, j);
+                    }
+                }
+            }
+        }
+    }
+    let mut by_root: Vec<Vec<DVec2>> = vec![Vec::new(); residue.len()];
+    for (i, p) in residue.iter().enumerate() {
+        by_root[sets.find(i)].push(*p);
+    }
+    by_root.into_iter().filter(|g| !g.is_empty()).collect()
+}
+
+/// Whether `line` (with its edge pixels `own`) is a chord of a curve (step 2): residue of
+/// `pieces` at both ends, all on one circle with the line's pixels. The pieces it touches.
+fn chord_of_curve(
+    line: &FittedLine,
+    own: &[DVec2],
+    pieces: &[Vec<DVec2>],
+) -> Option<(f64, Vec<usize>)> {
+    let mut touched = Vec::new();
+    let mut sample = own.to_vec();
+    for end in [line.from_px, line.to_px] {
+        let mut found = false;
+        for (i, piece) in pieces.iter().enumerate() {
+            let near: Vec<DVec2> = piece
+                .iter()
+                .copied()
+                .filter(|p| p.distance(end) <= END_REACH_PX)
+                .collect();
+            if near.len() >= 3 {
+                found = true;
+                touched.push(i);
+                sample.extend(near);
+            }
+        }
+        if !found {
+            return None;
+        }
+    }
+    let (_, _, rms) = fit_circle(&sample)?;
+    (rms <= MAX_CIRCLE_RMS_PX).then_some((rms, touched))
+}
+
+/// Least-squares circle through `points` (the algebraic fit of Kasa: `x^2 + y^2 + D x + E y +
+/// F = 0` solved linearly): centre, radius and the RMS distance of the points from the circle,
+/// px. `None` for fewer than three points or collinear ones.
+pub fn fit_circle(points: &[DVec2]) -> Option<(DVec2, f64, f64)> {
+    if points.len() < 3 {
+        return None;
+    }
+    let c0 = points.iter().fold(DVec2::ZERO, |a, p| a + *p) / points.len() as f64;
+    let (mut ata, mut atb) = (DMat3::ZERO, DVec3::ZERO);
+    for p in points {
+        let q = *p - c0;
+        let row = DVec3::new(q.x, q.y, 1.0);
+        ata += DMat3::from_cols(row * row.x, row * row.y, row * row.z);
+        atb += row * -(q.length_squared());
+    }
+    if ata.determinant().abs() < 1e-9 {
+        return None;
+    }
+    let s = ata.inverse() * atb;
+    let centre = DVec2::new(-s.x / 2.0, -s.y / 2.0);
+    let r2 = centre.length_squared() - s.z;
+    if !(r2 > 0.0) {
+        return None;
+    }
+    let r = r2.sqrt();
+    let ss: f64 = points
+        .iter()
+        .map(|p| ((*p - c0).distance(centre) - r).powi(2))
+        .sum();
+    Some((centre + c0, r, (ss / points.len() as f64).sqrt()))
+}
+
+/// The curve through `pixels` (step 3), if they form one.
+fn curve_through(pixels: &[DVec2]) -> Option<CurvedEdge> {
+    if pixels.len() < MIN_CURVE_PX {
+        return None;
+    }
+    let (c, dir, _) = fit_line_least_squares(pixels)?;
+    let sagitta = pixels
+        .iter()
+        .map(|p| dir.perp_dot(*p - c).abs())
+        .fold(0.0, f64::max);
+    if sagitta < MIN_SAGITTA_PX {
+        return None;
+    }
+    let (centre, _, _) = fit_circle(pixels)?;
+    let curve = order_by_angle(pixels, centre)?;
+    let fits = rms_off_polyline(pixels, &curve) <= MAX_OFF_CURVE_PX;
+    (fits && bends_smoothly(&curve)).then_some(curve)
+}
+
+/// `pixels` ordered by angle about `centre` and averaged in bins of about [`CHORD_PX`] of arc;
+/// an arc starts after the largest angular gap, a curve with no gap wider than two bins closes.
+fn order_by_angle(pixels: &[DVec2], centre: DVec2) -> Option<CurvedEdge> {
+    let mean_r = pixels.iter().map(|p| p.distance(centre)).sum::<f64>() / pixels.len() as f64;
+    if mean_r < CHORD_PX {
+        return None;
+    }
+    let bin = CHORD_PX / mean_r;
+    let tau = std::f64::consts::TAU;
+    let mut polar: Vec<(f64, DVec2)> = pixels
+        .iter()
+        .map(|p| ((*p - centre).to_angle().rem_euclid(tau), *p))
+        .collect();
+    polar.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)));
+    let n = polar.len();
+    let (gap, after) = (0..n)
+        .map(|i| {
+            (
+                (polar[(i + 1) % n].0 - polar[i].0).rem_euclid(tau),
+                (i + 1) % n,
+            )
+        })
+        .fold((-1.0, 0), |best, g| if g.0 > best.0 { g } else { best });
+    let start = polar[after].0;
+    let mut sums: Vec<(DVec2, usize)> = Vec::new();
+    for k in 0..n {
+        let (a, p) = polar[(after + k) % n];
+        let b = ((a - start).rem_euclid(tau) / bin) as usize;
+        if sums.len() <= b {
+            sums.resize(b + 1, (DVec2::ZERO, 0));
+        }
+        sums[b].0 += p;
+        sums[b].1 += 1;
+    }
+    let points_px: Vec<DVec2> = sums
+        .iter()
+        .filter(|s| s.1 > 0)
+        .map(|s| s.0 / s.1 as f64)
+        .collect();
+    (points_px.len() >= 5).then_some(CurvedEdge {
+        points_px,
+        closed: gap <= 2.0 * bin,
+    })
+}
+
+/// Chords of `curve` as point pairs (closing chord included for a closed curve).
+fn chords(curve: &CurvedEdge) -> Vec<(DVec2, DVec2)> {
+    let p = &curve.points_px;
+    let mut out: Vec<(DVec2, DVec2)> = p.windows(2).map(|w| (w[0], w[1])).collect();
+    if curve.closed {
+        out.push((p[p.len() - 1], p[0]));
+    }
+    out
+}
+
+/// RMS distance of `pixels` from the polyline of `curve`, px.
+fn rms_off_polyline(pixels: &[DVec2], curve: &CurvedEdge) -> f64 {
+    let segments = chords(curve);
+    let ss: f64 = pixels
+        .iter()
+        .map(|p| {
+            segments
+                .iter()
+                .map(|&(a, b)| {
+                    let ab = b - a;
+                    let t = ((*p - a).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
+                    p.distance_squared(a + ab * t)
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .sum();
+    (ss / pixels.len() as f64).sqrt()
+}
+
+/// Whether `curve` bends like a smooth convex arc: no chord turns against the overall sense by
+/// more than [`MAX_REVERSE_DEG`] (the averaged points wander by a fraction of a pixel where the
+/// ellipse is flattest), none turns by more than [`MAX_TURN_DEG`] (a corner of two straight
+/// edges), and no [`STRAIGHT_RUN_CHORDS`] chords in a row turn by less than
+/// [`MIN_RUN_TURN_DEG`] together (a straight edge in another direction).
+fn bends_smoothly(curve: &CurvedEdge) -> bool {
+    let turns: Vec<f64> = chords(curve)
+        .windows(2)
+        .map(|w| (w[0].1 - w[0].0).angle_to(w[1].1 - w[1].0).to_degrees())
+        .collect();
+    let sense = turns.iter().sum::<f64>().signum();
+    let one_way = turns.iter().all(|t| t * sense >= -MAX_REVERSE_DEG);
+    let no_corner = turns.iter().all(|t| t.abs() <= MAX_TURN_DEG);
+    let no_straight_run = turns
+        .windows(STRAIGHT_RUN_CHORDS - 1)
+        .all(|w| w.iter().sum::<f64>().abs() >= MIN_RUN_TURN_DEG);
+    one_way && no_corner && no_straight_run
+}
+
+/// Appends `curves` to `drawing` as chains of lines flagged in `curved_lines` (the format of
+/// the exact drawing, README "The exact line drawing") and recomputes codes and junctions.
+pub fn add_curved_edges(drawing: &mut LineDrawing, curves: &[CurvedEdge]) {
+    for curve in curves {
+        let first = drawing.points.len();
+        drawing.points.extend_from_slice(&curve.points_px);
+        let n = curve.points_px.len();
+        let ends = if curve.closed { n } else { n - 1 };
+        for k in 0..ends {
+            drawing.curved_lines.push(drawing.lines.len());
+            drawing.lines.push([first + k, first + (k + 1) % n]);
+        }
+    }
+    drawing.finalize();
+}
