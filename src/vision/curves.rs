@@ -50,6 +50,9 @@ pub const MAX_REVERSE_DEG: f64 = 6.0;
 /// A chord of a curve turns by at most this, degrees: a rim seen at 512 x 480 turns by up to
 /// about 20 degrees per [`CHORD_PX`] at the ends of its ellipse, a corner of blocks by more.
 pub const MAX_TURN_DEG: f64 = 30.0;
+/// A curve turns by at least this in all, degrees: the shortest rim arcs of the round family
+/// seen at 512 x 480 turn by more than 50, the wobble of a noisy straight edge by about 6.
+pub const MIN_TOTAL_TURN_DEG: f64 = 30.0;
 /// Chords in a run that must turn by [`MIN_RUN_TURN_DEG`] together.
 pub const STRAIGHT_RUN_CHORDS: usize = 4;
 /// Least total turn of [`STRAIGHT_RUN_CHORDS`] chords in a row of a curve, degrees: an ellipse
@@ -333,19 +336,21 @@ fn rms_off_polyline(pixels: &[DVec2], curve: &CurvedEdge) -> f64 {
 /// more than [`MAX_REVERSE_DEG`] (the averaged points wander by a fraction of a pixel where the
 /// ellipse is flattest), none turns by more than [`MAX_TURN_DEG`] (a corner of two straight
 /// edges), and no [`STRAIGHT_RUN_CHORDS`] chords in a row turn by less than
-/// [`MIN_RUN_TURN_DEG`] together (a straight edge in another direction).
+/// [`MIN_RUN_TURN_DEG`] together (a straight edge in another direction), and the whole turns
+/// by at least [`MIN_TOTAL_TURN_DEG`] (not a noisy straight edge).
 fn bends_smoothly(curve: &CurvedEdge) -> bool {
     let turns: Vec<f64> = chords(curve)
         .windows(2)
         .map(|w| (w[0].1 - w[0].0).angle_to(w[1].1 - w[1].0).to_degrees())
         .collect();
-    let sense = turns.iter().sum::<f64>().signum();
+    let total = turns.iter().sum::<f64>();
+    let sense = total.signum();
     let one_way = turns.iter().all(|t| t * sense >= -MAX_REVERSE_DEG);
     let no_corner = turns.iter().all(|t| t.abs() <= MAX_TURN_DEG);
     let no_straight_run = turns
         .windows(STRAIGHT_RUN_CHORDS - 1)
         .all(|w| w.iter().sum::<f64>().abs() >= MIN_RUN_TURN_DEG);
-    one_way && no_corner && no_straight_run
+    total.abs() >= MIN_TOTAL_TURN_DEG && one_way && no_corner && no_straight_run
 }
 
 /// Appends `curves` to `drawing` as chains of lines flagged in `curved_lines` (the format of
@@ -362,4 +367,110 @@ pub fn add_curved_edges(drawing: &mut LineDrawing, curves: &[CurvedEdge]) {
         }
     }
     drawing.finalize();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::Luma;
+
+    /// An edge map with the pixels within `half_width_px` of the curve `f(t)`, t in 0..1,
+    /// sampled finely.
+    fn band(w: u32, h: u32, half_width_px: f64, f: impl Fn(f64) -> DVec2) -> GrayImage {
+        let samples: Vec<DVec2> = (0..=4000).map(|k| f(k as f64 / 4000.0)).collect();
+        GrayImage::from_fn(w, h, |c, r| {
+            let p = picture_from_raster(c, r, h);
+            let near = samples.iter().any(|s| s.distance(p) <= half_width_px);
+            Luma([u8::from(near)])
+        })
+    }
+
+    fn ellipse(t: f64) -> DVec2 {
+        let a = t * std::f64::consts::TAU;
+        DVec2::new(100.0 + 60.0 * a.cos(), 80.0 + 35.0 * a.sin())
+    }
+
+    /// Distance from `p` to the ellipse of [`ellipse`], px (sampled).
+    fn off_ellipse(p: DVec2) -> f64 {
+        (0..4000)
+            .map(|k| ellipse(k as f64 / 4000.0).distance(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn circle_fit_is_exact_on_a_circle_and_refuses_a_line() {
+        let pts: Vec<DVec2> = (0..7)
+            .map(|k| DVec2::new(3.0, -2.0) + DVec2::from_angle(k as f64 * 0.4) * 12.5)
+            .collect();
+        let (c, r, rms) = fit_circle(&pts).unwrap();
+        assert!(c.distance(DVec2::new(3.0, -2.0)) < 1e-9 && (r - 12.5).abs() < 1e-9);
+        assert!(rms < 1e-9);
+        let line: Vec<DVec2> = (0..5)
+            .map(|k| DVec2::new(k as f64, 2.0 * k as f64))
+            .collect();
+        assert!(fit_circle(&line).is_none());
+    }
+
+    /// A whole ellipse seen with no straight line fitted on it is one closed curve whose points
+    /// lie on the ellipse within a pixel, added to a drawing as a chain flagged curved.
+    #[test]
+    fn an_ellipse_band_is_one_closed_curve_on_the_ellipse() {
+        let edges = band(200, 160, 1.5, ellipse);
+        let (curves, straight) = find_curved_edges(&edges, &[]);
+        assert!(straight.is_empty());
+        assert_eq!(curves.len(), 1, "{curves:?}");
+        let c = &curves[0];
+        assert!(c.closed && c.points_px.len() >= 30, "{}", c.points_px.len());
+        for p in &c.points_px {
+            assert!(off_ellipse(*p) < 1.0, "{p} off the ellipse");
+        }
+        let mut d = LineDrawing::default();
+        add_curved_edges(&mut d, &curves);
+        assert_eq!(d.lines.len(), c.points_px.len());
+        assert_eq!(d.curved_lines, (0..d.lines.len()).collect::<Vec<_>>());
+    }
+
+    /// Straight edges in directions the line finder does not know (a turned block, a wedge's
+    /// slope) and a corner of two of them are not curves: the checks that a curve bends
+    /// smoothly are what tells them apart from a rim.
+    #[test]
+    fn a_straight_edge_and_a_corner_off_the_directions_are_not_curves() {
+        let slope = |t: f64| DVec2::new(20.0 + 150.0 * t, 30.0 + 60.0 * t);
+        let (curves, _) = find_curved_edges(&band(200, 160, 1.5, slope), &[]);
+        assert!(curves.is_empty(), "{curves:?}");
+        let corner = |t: f64| {
+            if t < 0.5 {
+                DVec2::new(30.0 + 160.0 * t, 40.0 + 100.0 * t)
+            } else {
+                DVec2::new(110.0 + 160.0 * (t - 0.5), 90.0 - 40.0 * (t - 0.5))
+            }
+        };
+        let (curves, _) = find_curved_edges(&band(200, 160, 1.5, corner), &[]);
+        assert!(curves.is_empty(), "{curves:?}");
+    }
+
+    /// A straight line fitted on a flat stretch of an ellipse is a chord of the curve and is
+    /// absorbed; a line fitted elsewhere stays.
+    #[test]
+    fn a_line_fitted_on_an_ellipse_is_absorbed_into_the_curve() {
+        let edges = band(200, 160, 1.5, ellipse);
+        let on_rim = FittedLine {
+            axis: crate::drawing::EdgeAxis::WorldX,
+            centroid_px: DVec2::new(100.0, 115.0),
+            direction: DVec2::X,
+            from_px: DVec2::new(88.0, 115.0),
+            to_px: DVec2::new(112.0, 115.0),
+            support: 60,
+            rms_px: 0.5,
+        };
+        let elsewhere = FittedLine {
+            centroid_px: DVec2::new(100.0, 10.0),
+            from_px: DVec2::new(80.0, 10.0),
+            to_px: DVec2::new(120.0, 10.0),
+            ..on_rim
+        };
+        let (curves, straight) = find_curved_edges(&edges, &[on_rim, elsewhere]);
+        assert_eq!(curves.len(), 1);
+        assert_eq!(straight, vec![elsewhere]);
+    }
 }
