@@ -120,6 +120,27 @@ fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
     line.signed_distance_px(p).hypot(beyond)
 }
 
+/// The edge map `edges` without the pixels within [`NEAR_LINE_PX`] of any of `lines`: what
+/// the straight lines found so far leave unexplained (a wedge's sloped edges, curves, blobs at
+/// junctions).
+pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
+    let (w, h) = edges.dimensions();
+    let mut out = edges.clone();
+    for (i, v) in out.iter_mut().enumerate() {
+        if *v == 0 {
+            continue;
+        }
+        let p = picture_from_raster(i as u32 % w, i as u32 / w, h);
+        if lines
+            .iter()
+            .any(|l| distance_to_line_px(l, p) <= NEAR_LINE_PX)
+        {
+            *v = 0;
+        }
+    }
+    out
+}
+
 /// The edge pixels (picture px) of each line (those within [`NEAR_LINE_PX`] of it, each to its
 /// nearest line) and the residue, the pixels near no line.
 fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
