@@ -249,7 +249,7 @@ pub fn fit_circle(points: &[DVec2]) -> Option<(DVec2, f64, f64)> {
     let s = ata.inverse() * atb;
     let centre = DVec2::new(-s.x / 2.0, -s.y / 2.0);
     let r2 = centre.length_squared() - s.z;
-    if !(r2 > 0.0) {
+    if r2.is_nan() || r2 <= 0.0 {
         return None;
     }
     let r = r2.sqrt();
