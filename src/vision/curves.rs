@@ -22,7 +22,7 @@
 
 use super::lines::{fit_line_least_squares, picture_from_raster, FittedLine};
 use crate::drawing::LineDrawing;
-use crate::geom::{DMat3, DVec2, DVec3, UnionFind};
+use crate::geom::{bounds2, DMat3, DVec2, DVec3, UnionFind};
 use image::GrayImage;
 
 /// An edge pixel within this distance of a fitted straight segment belongs to it, px.
@@ -76,11 +76,16 @@ pub fn find_curved_edges(
 ) -> (Vec<CurvedEdge>, Vec<FittedLine>) {
     let (per_line, residue) = assign_pixels(edges, lines);
     let mut groups = residue_pieces(&residue, edges.width(), edges.height());
+    let boxes: Vec<(DVec2, DVec2)> = groups
+        .iter()
+        .map(|g| bounds2(g.iter().copied()).unwrap_or_default())
+        .collect();
     let mut candidates: Vec<(f64, usize, Vec<usize>)> = lines
         .iter()
         .enumerate()
         .filter_map(|(li, l)| {
-            chord_of_curve(l, &per_line[li], &groups).map(|(rms, touched)| (rms, li, touched))
+            chord_of_curve(l, &per_line[li], &groups, &boxes)
+                .map(|(rms, touched)| (rms, li, touched))
         })
         .collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -120,23 +125,78 @@ fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
     line.signed_distance_px(p).hypot(beyond)
 }
 
+/// The edge pixels within [`NEAR_LINE_PX`] of some line, as `(raster index, line)` with the
+/// nearest line, sorted by index. Each line visits only its own band, once per pixel: along its
+/// major picture axis, the few pixels across it ([`band_pixels`]), so the cost grows with the
+/// lines' length, not with edge pixels times lines.
+fn edge_pixels_near_lines(edges: &GrayImage, lines: &[FittedLine]) -> Vec<(usize, u32)> {
+    let (w, h) = edges.dimensions();
+    let raw = edges.as_raw();
+    let mut hits: Vec<(usize, f64, u32)> = Vec::new();
+    for (li, line) in lines.iter().enumerate() {
+        band_pixels(line, w, h, &mut |c, r| {
+            let i = r as usize * w as usize + c as usize;
+            if raw[i] != 0 {
+                let d = distance_to_line_px(line, picture_from_raster(c, r, h));
+                if d <= NEAR_LINE_PX {
+                    hits.push((i, d, li as u32));
+                }
+            }
+        });
+    }
+    hits.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+    hits.dedup_by_key(|h| h.0);
+    hits.into_iter().map(|(i, _, l)| (i, l)).collect()
+}
+
+/// Calls `visit(col, row)` once for every raster pixel of a `w` x `h` picture that may lie
+/// within [`NEAR_LINE_PX`] of `line`'s segment: for each column (or row, when the line is
+/// steeper than 45 degrees) across the segment's extent widened by the band, the rows (columns)
+/// where the line crosses it, widened by the band over the line's slope and a pixel.
+fn band_pixels(line: &FittedLine, w: u32, h: u32, visit: &mut dyn FnMut(u32, u32)) {
+    let (a, b) = (line.from_px, line.to_px);
+    let d = line.direction;
+    let steep = d.y.abs() > d.x.abs();
+    // Work in (u, v) = (major, minor) picture coordinates.
+    let (ua, va, ub, vb) = if steep {
+        (a.y, a.x, b.y, b.x)
+    } else {
+        (a.x, a.y, b.x, b.y)
+    };
+    let (major_len, minor_len) = if steep { (h, w) } else { (w, h) };
+    let cos = if steep { d.y.abs() } else { d.x.abs() };
+    let half = NEAR_LINE_PX / cos.max(1e-6) + 1.0;
+    let (u0, u1) = (ua.min(ub) - NEAR_LINE_PX, ua.max(ub) + NEAR_LINE_PX);
+    let lo = (u0 - 0.5).floor().max(0.0) as i64;
+    let hi = ((u1 - 0.5).ceil() as i64).min(major_len as i64 - 1);
+    for m in lo..=hi {
+        let u = m as f64 + 0.5;
+        let t = if (ub - ua).abs() > 1e-9 {
+            ((u - ua) / (ub - ua)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let v = va + (vb - va) * t;
+        let n0 = ((v - half - 0.5).floor() as i64).max(0);
+        let n1 = ((v + half - 0.5).ceil() as i64).min(minor_len as i64 - 1);
+        for n in n0..=n1 {
+            // (m, n) are (major, minor) pixel indices; picture y runs up, rows down.
+            let (x_idx, y_idx) = if steep { (n, m) } else { (m, n) };
+            let row = h as i64 - 1 - y_idx;
+            if row >= 0 && x_idx >= 0 && x_idx < w as i64 {
+                visit(x_idx as u32, row as u32);
+            }
+        }
+    }
+}
+
 /// The edge map `edges` without the pixels within [`NEAR_LINE_PX`] of any of `lines`: what
 /// the straight lines found so far leave unexplained (a wedge's sloped edges, curves, blobs at
 /// junctions).
 pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
-    let (w, h) = edges.dimensions();
     let mut out = edges.clone();
-    for (i, v) in out.iter_mut().enumerate() {
-        if *v == 0 {
-            continue;
-        }
-        let p = picture_from_raster(i as u32 % w, i as u32 / w, h);
-        if lines
-            .iter()
-            .any(|l| distance_to_line_px(l, p) <= NEAR_LINE_PX)
-        {
-            *v = 0;
-        }
+    for (i, _) in edge_pixels_near_lines(edges, lines) {
+        out.as_mut()[i] = 0;
     }
     out
 }
@@ -145,20 +205,20 @@ pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
 /// nearest line) and the residue, the pixels near no line.
 fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
     let (w, h) = edges.dimensions();
+    let near = edge_pixels_near_lines(edges, lines);
     let mut per_line = vec![Vec::new(); lines.len()];
     let mut residue = Vec::new();
+    let mut next = near.iter().peekable();
     for (i, v) in edges.as_raw().iter().enumerate() {
         if *v == 0 {
             continue;
         }
         let p = picture_from_raster(i as u32 % w, i as u32 / w, h);
-        let nearest = lines
-            .iter()
-            .map(|l| distance_to_line_px(l, p))
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        match nearest {
-            Some((li, d)) if d <= NEAR_LINE_PX => per_line[li].push(p),
+        match next.peek() {
+            Some(&&(j, li)) if j == i => {
+                per_line[li as usize].push(p);
+                next.next();
+            }
             _ => residue.push(p),
         }
     }
@@ -170,10 +230,10 @@ fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, V
 fn residue_pieces(residue: &[DVec2], w: u32, h: u32) -> Vec<Vec<DVec2>> {
     let (w, h) = (w as i64, h as i64);
     let cell = |p: DVec2| ((p.x - 0.5) as i64, (h as f64 - 0.5 - p.y) as i64);
-    let mut index = vec![usize::MAX; (w * h) as usize];
+    let mut index = vec![u32::MAX; (w * h) as usize];
     for (i, p) in residue.iter().enumerate() {
         let (c, r) = cell(*p);
-        index[(r * w + c) as usize] = i;
+        index[(r * w + c) as usize] = i as u32;
     }
     let mut sets = UnionFind::new(residue.len());
     for (i, p) in residue.iter().enumerate() {
@@ -183,8 +243,8 @@ fn residue_pieces(residue: &[DVec2], w: u32, h: u32) -> Vec<Vec<DVec2>> {
                 let (cc, rr) = (c + dc, r + dr);
                 if cc >= 0 && rr >= 0 && cc < w && rr < h {
                     let j = index[(rr * w + cc) as usize];
-                    if j != usize::MAX {
-                        sets.union(i, j);
+                    if j != u32::MAX {
+                        sets.union(i, j as usize);
                     }
                 }
             }
@@ -203,12 +263,17 @@ fn chord_of_curve(
     line: &FittedLine,
     own: &[DVec2],
     pieces: &[Vec<DVec2>],
+    boxes: &[(DVec2, DVec2)],
 ) -> Option<(f64, Vec<usize>)> {
     let mut touched = Vec::new();
     let mut sample = own.to_vec();
     for end in [line.from_px, line.to_px] {
         let mut found = false;
         for (i, piece) in pieces.iter().enumerate() {
+            let (lo, hi) = boxes[i];
+            if end.cmplt(lo - END_REACH_PX).any() || end.cmpgt(hi + END_REACH_PX).any() {
+                continue;
+            }
             let near: Vec<DVec2> = piece
                 .iter()
                 .copied()
@@ -275,8 +340,8 @@ fn curve_through(pixels: &[DVec2]) -> Option<CurvedEdge> {
     }
     let (centre, _, _) = fit_circle(pixels)?;
     let curve = order_by_angle(pixels, centre)?;
-    let fits = rms_off_polyline(pixels, &curve) <= MAX_OFF_CURVE_PX;
-    (fits && bends_smoothly(&curve)).then_some(curve)
+    (bends_smoothly(&curve) && rms_off_polyline(pixels, &curve) <= MAX_OFF_CURVE_PX)
+        .then_some(curve)
 }
 
 /// `pixels` ordered by angle about `centre` and averaged in bins of about [`CHORD_PX`] of arc;
@@ -416,6 +481,41 @@ mod tests {
         (0..4000)
             .map(|k| ellipse(k as f64 / 4000.0).distance(p))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The band walk visits every pixel within [`NEAR_LINE_PX`] of a segment, at any slope and
+    /// clipped at the picture's border, each once (checked against every pixel).
+    #[test]
+    fn band_walk_visits_every_pixel_near_a_segment_once() {
+        let (w, h) = (60u32, 50u32);
+        for (a, b) in [
+            (DVec2::new(3.2, 4.7), DVec2::new(55.1, 20.3)),
+            (DVec2::new(10.0, 1.0), DVec2::new(14.0, 48.5)),
+            (DVec2::new(-2.0, 30.0), DVec2::new(40.0, 30.0)),
+            (DVec2::new(30.5, 49.8), DVec2::new(5.0, 0.2)),
+        ] {
+            let d = (b - a).normalize();
+            let line = FittedLine {
+                axis: crate::drawing::EdgeAxis::WorldX,
+                centroid_px: (a + b) / 2.0,
+                direction: d,
+                from_px: a,
+                to_px: b,
+                support: 10,
+                rms_px: 0.0,
+            };
+            let mut seen = vec![0u32; (w * h) as usize];
+            band_pixels(&line, w, h, &mut |c, r| seen[(r * w + c) as usize] += 1);
+            for r in 0..h {
+                for c in 0..w {
+                    let near =
+                        distance_to_line_px(&line, picture_from_raster(c, r, h)) <= NEAR_LINE_PX;
+                    let n = seen[(r * w + c) as usize];
+                    assert!(n <= 1, "{a} {b}: ({c}, {r}) visited {n} times");
+                    assert!(!near || n == 1, "{a} {b}: ({c}, {r}) missed");
+                }
+            }
+        }
     }
 
     #[test]
