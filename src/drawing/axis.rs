@@ -5,6 +5,7 @@
 
 use crate::geom::DVec3;
 use serde::{Deserialize, Serialize};
+use std::f64::consts::FRAC_1_SQRT_2;
 
 /// A world direction of block edges.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -23,6 +24,16 @@ pub enum EdgeAxis {
 impl EdgeAxis {
     /// The three axes of blocks placed in one direction (Chapter VII's constraint).
     pub const BLOCK_AXES: [EdgeAxis; 3] = [EdgeAxis::Vertical, EdgeAxis::WorldX, EdgeAxis::WorldZ];
+
+    /// The world directions of a trapezoidal block's sloped edges (the wedge `w30`, thesis
+    /// Figure 7.1; README "Block catalog"): 45 degrees up from x or z, either way. In a corner
+    /// view they add a fourth and fifth picture direction to the three of [`Self::BLOCK_AXES`].
+    pub const TRAPEZOID_SLOPES: [EdgeAxis; 4] = [
+        EdgeAxis::World([FRAC_1_SQRT_2, FRAC_1_SQRT_2, 0.0]),
+        EdgeAxis::World([FRAC_1_SQRT_2, -FRAC_1_SQRT_2, 0.0]),
+        EdgeAxis::World([0.0, FRAC_1_SQRT_2, FRAC_1_SQRT_2]),
+        EdgeAxis::World([0.0, FRAC_1_SQRT_2, -FRAC_1_SQRT_2]),
+    ];
 
     /// The axis as a world unit vector.
     pub fn world_direction(self) -> DVec3 {

@@ -11,17 +11,8 @@
 //! exactly when a face is sloped.
 
 use super::Camera;
-use crate::drawing::{Junction, LineDrawing};
+use crate::drawing::{EdgeAxis, Junction, LineDrawing};
 use crate::geom::{DVec2, DVec3};
-
-/// The world directions of the trapezoidal block's sloped edges (unnormalised): 45 degrees up
-/// from x or z.
-const SLOPES: [[f64; 3]; 4] = [
-    [1.0, 1.0, 0.0],
-    [1.0, -1.0, 0.0],
-    [0.0, 1.0, 1.0],
-    [0.0, 1.0, -1.0],
-];
 
 /// A face plane spanned by two lines meeting at a junction, with its gradient.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,7 +31,7 @@ pub struct FaceGradient {
 
 /// The world direction (unit) whose picture direction at line `line`'s middle is nearest the
 /// line's, within `tol_deg`: the nearest axis if one is that close, else the nearest of
-/// [`SLOPES`]; in perspective views each direction is taken towards its vanishing point, as in
+/// [`EdgeAxis::TRAPEZOID_SLOPES`]; in perspective views each direction is taken towards its vanishing point, as in
 /// `lines_off_the_axes`.
 pub fn line_world_direction(
     drawing: &LineDrawing,
@@ -68,7 +59,7 @@ pub fn line_world_direction(
     // An axis first: where a slope projects parallel to an axis (in isometric corner views a
     // 45-degree slope in a vertical plane does, in two of the four views), the line is read as
     // the solid blocks' axis, so no sloped face is ever invented.
-    let slopes = SLOPES.map(|s| DVec3::from_array(s).normalize());
+    let slopes = EdgeAxis::TRAPEZOID_SLOPES.map(EdgeAxis::world_direction);
     best(&mut [DVec3::X, DVec3::Y, DVec3::Z].into_iter()).or_else(|| best(&mut slopes.into_iter()))
 }
 

@@ -18,8 +18,10 @@
 //!    pixels (the thesis used 20-30 samples per line; every supporting pixel is used here),
 //!    giving a sub-pixel line; its extent is that of the supporting pixels.
 //!
-//! Lines in other directions (a block turned about the vertical, a wedge's slope) are not
-//! found: the thesis's method assumes blocks aligned with the views (Ch. VII).
+//! Only the directions asked for are found: the front end asks for the three block axes and,
+//! among the pixels they leave unexplained, a trapezoidal block's slopes (`super::picture_axes`,
+//! Figure 7.1); a block turned about the vertical is not found, the thesis's method assumes
+//! blocks aligned with the views (Ch. VII).
 
 use crate::camera::Camera;
 use crate::drawing::EdgeAxis;

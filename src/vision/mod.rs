@@ -11,17 +11,23 @@
 //!    0 up, 1 down, 2 left-up, 3 left-down, 4 right-up, 5 right-down; Appendix A's table uses
 //!    another order and is not followed) and junction class (Ch. V "Y" and collinear "T").
 //!
+//! 4. [`find_curved_edges`]: the edges that are not straight (a round part's rims, Chapter
+//!    VII's "circles") reported as curves, chains of chords flagged in `curved_lines` as in the
+//!    exact drawing, instead of being chopped into straight pieces or dropped.
+//!
 //! [`detect_line_drawing`] runs all three after checking the picture against its camera;
 //! [`match_vertices`] measures a drawing against ground truth (`lines_<view>.json`).
 //! Picture coordinates are those of `geom`: px, x right, y up, origin at the bottom-left corner,
 //! raster row `r` at `y = H - r - 0.5`. No file I/O happens here.
 
+mod curves;
 mod edges;
 mod error;
 mod eval;
 mod lines;
 mod vertices;
 
+pub use curves::{add_curved_edges, find_curved_edges, fit_circle, residue_map, CurvedEdge};
 pub use edges::{
     detect_edges, smooth_3x3, sobel_magnitude, threshold, EdgeOptions, MagnitudeImage, SmoothWindow,
 };
@@ -152,7 +158,7 @@ pub fn detect_line_drawing_with_progress(
     check_picture(image, camera)?;
     let (edges, timings) = timed_edges(image, opts, progress);
     check_edge_count(&edges)?;
-    let directions = edge_directions(camera, &EdgeAxis::BLOCK_AXES);
+    let directions = edge_directions(camera, &picture_axes(camera));
     Ok(detect_from_edges(
         image,
         edges,
@@ -162,6 +168,36 @@ pub fn detect_line_drawing_with_progress(
         progress,
     ))
 }
+
+/// Two picture directions closer than this, degrees, are one: a trapezoidal block's slope that
+/// projects (nearly) parallel to a block axis is found as that axis.
+pub const MIN_DIRECTION_SEPARATION_DEG: f64 = 6.0;
+
+/// The world directions whose edges the line finder looks for in `camera`'s picture: the three
+/// block axes and the trapezoidal block's slopes (Chapter VII, Figure 7.1: a fourth and fifth
+/// picture direction), each slope only where its picture direction differs from every earlier
+/// one by at least [`MIN_DIRECTION_SEPARATION_DEG`] (in isometric corner views a 45-degree slope
+/// projects parallel to a horizontal axis in two of the four views).
+pub fn picture_axes(camera: &Camera) -> Vec<EdgeAxis> {
+    let mut axes = EdgeAxis::BLOCK_AXES.to_vec();
+    for slope in EdgeAxis::TRAPEZOID_SLOPES {
+        let dirs = picture_directions(camera, &axes);
+        let d = picture_directions(camera, &[slope])[0];
+        let apart = dirs.iter().all(|u| {
+            let ang = u.angle_to(d).abs().to_degrees();
+            ang.min(180.0 - ang) >= MIN_DIRECTION_SEPARATION_DEG
+        });
+        if apart {
+            axes.push(slope);
+        }
+    }
+    axes
+}
+
+/// Shortest line kept in a direction other than the block axes, px: the sloped edges are
+/// looked for only among the edge pixels no block-axis line explains ([`residue_map`]), where
+/// the blobs left at junctions of block edges give pieces shorter than this.
+pub const MIN_SLOPED_LINE_PX: f64 = 12.0;
 
 /// Edge pixels allowed per pixel of picture side (width + height). A line drawing's edge
 /// pixels grow with the picture's side, since its lines are a few pixels wide: over the
@@ -228,12 +264,28 @@ fn detect_from_edges(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Detection {
     let t = std::time::Instant::now();
-    let lines = fit_lines(&edges, directions, &opts.lines);
+    let (axes, others): (Vec<_>, Vec<_>) = directions
+        .iter()
+        .partition(|(k, _)| EdgeAxis::BLOCK_AXES.contains(k));
+    let mut lines = fit_lines(&edges, &axes, &opts.lines);
+    if !others.is_empty() {
+        let residue = residue_map(&edges, &lines);
+        let sloped = fit_lines(&residue, &others, &opts.lines);
+        lines.extend(
+            sloped
+                .into_iter()
+                .filter(|l| l.length_px() >= MIN_SLOPED_LINE_PX),
+        );
+    }
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
+    let (curves, lines) = find_curved_edges(&edges, &lines);
     timings.lines_ms = ms_since(t);
     progress(4, VISION_STEPS);
     let t = std::time::Instant::now();
-    let drawing = find_vertices(&lines, &opts.vertices);
+    let mut drawing = find_vertices(&lines, &opts.vertices);
+    if !curves.is_empty() {
+        add_curved_edges(&mut drawing, &curves);
+    }
     timings.vertices_ms = ms_since(t);
     progress(5, VISION_STEPS);
     Detection {
