@@ -126,27 +126,46 @@ fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
 }
 
 /// The edge pixels within [`NEAR_LINE_PX`] of some line, as `(raster index, line)` with the
-/// nearest line, sorted by index. Each line visits only its own band, once per pixel: along its
-/// major picture axis, the few pixels across it ([`band_pixels`]), so the cost grows with the
-/// lines' length, not with edge pixels times lines.
+/// nearest line (the lower index on a tie), sorted by index. Each line visits only its own
+/// band, once per pixel: along its major picture axis, the few pixels across it
+/// ([`band_pixels`]), so the cost grows with the lines' length, not with edge pixels times
+/// lines; a pixel's nearest line so far is kept in a slot found through a raster-sized table,
+/// and the slots are read back in raster order (no sort of the hits).
 fn edge_pixels_near_lines(edges: &GrayImage, lines: &[FittedLine]) -> Vec<(usize, u32)> {
     let (w, h) = edges.dimensions();
     let raw = edges.as_raw();
-    let mut hits: Vec<(usize, f64, u32)> = Vec::new();
+    let mut slot = vec![u32::MAX; raw.len()];
+    let mut nearest: Vec<(f64, u32)> = Vec::new();
     for (li, line) in lines.iter().enumerate() {
+        let li = li as u32;
         band_pixels(line, w, h, &mut |c, r| {
             let i = r as usize * w as usize + c as usize;
-            if raw[i] != 0 {
-                let d = distance_to_line_px(line, picture_from_raster(c, r, h));
-                if d <= NEAR_LINE_PX {
-                    hits.push((i, d, li as u32));
+            if raw[i] == 0 {
+                return;
+            }
+            let d = distance_to_line_px(line, picture_from_raster(c, r, h));
+            if d > NEAR_LINE_PX {
+                return;
+            }
+            match slot[i] {
+                u32::MAX => {
+                    slot[i] = nearest.len() as u32;
+                    nearest.push((d, li));
+                }
+                k => {
+                    let best = &mut nearest[k as usize];
+                    if d < best.0 || (d == best.0 && li < best.1) {
+                        *best = (d, li);
+                    }
                 }
             }
         });
     }
-    hits.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-    hits.dedup_by_key(|h| h.0);
-    hits.into_iter().map(|(i, _, l)| (i, l)).collect()
+    slot.iter()
+        .enumerate()
+        .filter(|(_, &k)| k != u32::MAX)
+        .map(|(i, &k)| (i, nearest[k as usize].1))
+        .collect()
 }
 
 /// Calls `visit(col, row)` once for every raster pixel of a `w` x `h` picture that may lie
