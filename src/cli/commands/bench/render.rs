@@ -152,6 +152,21 @@ struct Timing {
 }
 
 impl Timing {
+    /// The timing of `times` (one per call, at least one), with the process's CPU time since
+    /// `cpu_start` shared over the `views` rendered.
+    fn of(mut times: Vec<Duration>, cpu_start: Option<Duration>, views: usize) -> Timing {
+        let cpu = process_cpu_time()
+            .zip(cpu_start)
+            .map(|(end, start)| end.saturating_sub(start) / views as u32);
+        let mean = times.iter().sum::<Duration>() / times.len() as u32;
+        times.sort();
+        Timing {
+            median: times[times.len() / 2],
+            mean,
+            cpu,
+        }
+    }
+
     fn show(&self) -> String {
         let cpu = self
             .cpu
@@ -183,16 +198,7 @@ fn time_views(
         f(CornerView::ALL[k % 4])?;
         times.push(t.elapsed());
     }
-    let cpu = process_cpu_time()
-        .zip(cpu_start)
-        .map(|(end, start)| end.saturating_sub(start) / iterations as u32);
-    let mean = times.iter().sum::<Duration>() / times.len() as u32;
-    times.sort();
-    Ok(Timing {
-        median: times[times.len() / 2],
-        mean,
-        cpu,
-    })
+    Ok(Timing::of(times, cpu_start, iterations))
 }
 
 /// [`time_views`] for a call that renders all four corner views at once: `iterations` views
@@ -209,16 +215,8 @@ fn time_four_views(
         f()?;
         times.push(t.elapsed() / views as u32);
     }
-    let cpu = process_cpu_time()
-        .zip(cpu_start)
-        .map(|(end, start)| end.saturating_sub(start) / (times.len() * views) as u32);
-    let mean = times.iter().sum::<Duration>() / times.len() as u32;
-    times.sort();
-    Ok(Timing {
-        median: times[times.len() / 2],
-        mean,
-        cpu,
-    })
+    let rendered = times.len() * views;
+    Ok(Timing::of(times, cpu_start, rendered))
 }
 
 fn ms(d: Duration) -> f64 {
