@@ -248,40 +248,71 @@ pub fn equally_good_alternative(
     alternative_given_drawings(blocks, views, &drawn, tol_px)
 }
 
-/// [`equally_good_alternative`] given the hypothesis's own exact drawing in every view (as
-/// step 6 made it): alternatives those drawings refute are not redrawn.
-pub(super) fn alternative_given_drawings(
-    blocks: &[Block],
-    views: &[ObservedView],
-    drawn: &[LineDrawing],
+/// One split or merge of the hypothesis's blocks, with what the hypothesis's own drawings
+/// already prove about it.
+struct Alternative {
+    /// Which blocks change.
+    change: Change,
+    /// Some view's own drawing proves the alternative is not explained there.
+    refuted: bool,
+    /// The alternative provably draws the hypothesis's own drawing ([`split_crack_enclosed`]).
+    hidden: bool,
+    /// Its blocks.
+    blocks: Vec<Block>,
+}
+
+/// A split of block `i` or a merge of blocks `i` and `j`.
+#[derive(Debug, Clone, Copy)]
+enum Change {
+    Split(usize),
+    Merge(usize, usize),
+}
+
+impl Alternative {
+    /// Why the views would not decide, were it explained (`blocks` the hypothesis's).
+    fn reason(&self, blocks: &[Block]) -> String {
+        match self.change {
+            Change::Split(i) => format!(
+                "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
+                blocks[i].block_type.id, self.blocks[i].block_type.id
+            ),
+            Change::Merge(i, j) => format!(
+                "blocks {i} and {j} could as well be one {} (their crack is hidden in every view)",
+                self.blocks[i].block_type.id
+            ),
+        }
+    }
+}
+
+/// Every split of one block and merge of two (in that order, by block index), made lazily so
+/// that a search stops at the first that counts.
+fn alternatives<'a>(
+    blocks: &'a [Block],
+    views: &'a [ObservedView],
+    drawn: &'a [LineDrawing],
     tol_px: f64,
-) -> Option<String> {
-    let explains = |alt: &[Block]| {
-        views.iter().all(|v| {
-            compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, tol_px).is_explained()
-        })
-    };
-    for (i, b) in blocks.iter().enumerate() {
-        for halves in catalog_splits(b) {
+) -> impl Iterator<Item = Alternative> + 'a {
+    let splits = blocks.iter().enumerate().flat_map(move |(i, b)| {
+        catalog_splits(b).into_iter().map(move |halves| {
             let refuted = views
                 .iter()
                 .zip(drawn)
                 .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, tol_px));
+            let hidden = !refuted && split_crack_enclosed(blocks, i, &halves);
             let mut alt = blocks.to_vec();
             alt.splice(i..=i, halves);
-            if !refuted && (split_crack_enclosed(blocks, i, &halves) || explains(&alt)) {
-                return Some(format!(
-                    "block {i} ({}) could as well be two {} (their crack is hidden in every view)",
-                    b.block_type.id, halves[0].block_type.id
-                ));
+            Alternative {
+                change: Change::Split(i),
+                refuted,
+                hidden,
+                blocks: alt,
             }
-        }
-    }
-    for i in 0..blocks.len() {
-        for j in i + 1..blocks.len() {
-            let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
-                continue;
-            };
+        })
+    });
+    let n = blocks.len();
+    let merges = (0..n).flat_map(move |i| {
+        (i + 1..n).filter_map(move |j| {
+            let m = catalog_merge(&blocks[i], &blocks[j])?;
             let refuted = views
                 .iter()
                 .zip(drawn)
@@ -289,15 +320,36 @@ pub(super) fn alternative_given_drawings(
             let mut alt: Vec<Block> = blocks.to_vec();
             alt.remove(j);
             alt[i] = m;
-            if !refuted && explains(&alt) {
-                return Some(format!(
-                    "blocks {i} and {j} could as well be one {} (their crack is hidden in every view)",
-                    m.block_type.id
-                ));
-            }
-        }
-    }
-    None
+            Some(Alternative {
+                change: Change::Merge(i, j),
+                refuted,
+                hidden: false,
+                blocks: alt,
+            })
+        })
+    });
+    splits.chain(merges)
+}
+
+/// `true` when the exact redraw of `alt` explains every observed view.
+fn redraw_explains(alt: &[Block], views: &[ObservedView], tol_px: f64) -> bool {
+    views.iter().all(|v| {
+        compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, tol_px).is_explained()
+    })
+}
+
+/// [`equally_good_alternative`] given the hypothesis's own exact drawing in every view (as
+/// step 6 made it): alternatives those drawings refute are not redrawn, nor those they prove
+/// hidden.
+pub(super) fn alternative_given_drawings(
+    blocks: &[Block],
+    views: &[ObservedView],
+    drawn: &[LineDrawing],
+    tol_px: f64,
+) -> Option<String> {
+    alternatives(blocks, views, drawn, tol_px)
+        .find(|a| !a.refuted && (a.hidden || redraw_explains(&a.blocks, views, tol_px)))
+        .map(|a| a.reason(blocks))
 }
 
 #[cfg(test)]
@@ -311,59 +363,30 @@ mod tests {
 
     /// The 3 x 3 layer of b15 with a row of three on top (`bench render`'s 12-block stack).
     fn stack() -> Vec<Block> {
-        (0..12)
-            .map(|k: usize| {
-                let (layer, i) = (k / 9, k % 9);
-                let centre = DVec3::new(
-                    (i % 3) as f64 * 15.0,
-                    layer as f64 * 15.0 + 7.5,
-                    (i / 3) as f64 * 15.0,
-                );
-                Block::new("b15", centre, 0.0)
-            })
-            .collect()
+        let layer: Vec<usize> = (0..9).collect();
+        [
+            crate::recognize::grid_cubes(0, &layer),
+            crate::recognize::grid_cubes(1, &[0, 1, 2]),
+        ]
+        .concat()
     }
 
     /// Every split and merge alternative of `blocks`: refuted by some view, and whether the
     /// exact redraw explains every view.
-    fn alternatives(blocks: &[Block], views: &[ObservedView]) -> Vec<(String, bool, bool)> {
+    fn alternatives_of(blocks: &[Block], views: &[ObservedView]) -> Vec<(String, bool, bool)> {
         let drawn: Vec<LineDrawing> = views
             .iter()
             .map(|v| draw_hypothesis(blocks, &v.camera))
             .collect();
-        let explains = |alt: &[Block]| {
-            views.iter().all(|v| {
-                compare_drawings(&draw_hypothesis(alt, &v.camera), &v.drawing, 2.0).is_explained()
-            })
-        };
-        let mut out = Vec::new();
-        for (i, b) in blocks.iter().enumerate() {
-            for halves in catalog_splits(b) {
-                let refuted = views
-                    .iter()
-                    .zip(&drawn)
-                    .any(|(v, d)| split_refuted(blocks, i, &halves, d, v, 2.0));
-                let mut alt = blocks.to_vec();
-                alt.splice(i..=i, halves);
-                out.push((format!("split {i}"), refuted, explains(&alt)));
-            }
-        }
-        for i in 0..blocks.len() {
-            for j in i + 1..blocks.len() {
-                let Some(m) = catalog_merge(&blocks[i], &blocks[j]) else {
-                    continue;
+        alternatives(blocks, views, &drawn, 2.0)
+            .map(|a| {
+                let label = match a.change {
+                    Change::Split(i) => format!("split {i}"),
+                    Change::Merge(i, j) => format!("merge {i} {j}"),
                 };
-                let refuted = views
-                    .iter()
-                    .zip(&drawn)
-                    .any(|(v, d)| merge_refuted([i, j], d, &v.drawing, 2.0));
-                let mut alt = blocks.to_vec();
-                alt.remove(j);
-                alt[i] = m;
-                out.push((format!("merge {i} {j}"), refuted, explains(&alt)));
-            }
-        }
-        out
+                (label, a.refuted, redraw_explains(&a.blocks, views, 2.0))
+            })
+            .collect()
     }
 
     #[test]
@@ -375,7 +398,7 @@ mod tests {
         ];
         for blocks in [row, stack()] {
             let views = views_of(&blocks);
-            let alts = alternatives(&blocks, &views);
+            let alts = alternatives_of(&blocks, &views);
             assert!(!alts.is_empty());
             for (what, refuted, explains) in &alts {
                 assert!(
@@ -473,7 +496,7 @@ mod tests {
     fn the_stacks_middle_bottom_block_is_not_refuted_and_is_found_ambiguous() {
         let blocks = stack();
         let views = views_of(&blocks);
-        let alts = alternatives(&blocks, &views);
+        let alts = alternatives_of(&blocks, &views);
         let middle = alts.iter().find(|a| a.0 == "split 4").unwrap();
         assert_eq!(
             (middle.1, middle.2),
@@ -489,7 +512,7 @@ mod tests {
         let cube = vec![Block::new("b15", DVec3::new(7.5, 7.5, 7.5), 0.0)];
         let views = views_of(&cube);
         assert!(
-            alternatives(&cube, &views)[0].1,
+            alternatives_of(&cube, &views)[0].1,
             "a lone cube shows its middle"
         );
         assert_eq!(equally_good_alternative(&cube, &views, 2.0), None);

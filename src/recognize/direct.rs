@@ -90,10 +90,20 @@ pub fn direct_hypothesis(
     views: &[ObservedView],
     tol_px: f64,
 ) -> Vec<Block> {
-    let silhouettes = Silhouettes::new(views);
+    direct_hypothesis_within(pool, views, &Silhouettes::new(views), tol_px)
+}
+
+/// [`direct_hypothesis`] with the views' silhouettes already made (the recognizer makes them
+/// once for the reading of levels and for this).
+pub(super) fn direct_hypothesis_within(
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    silhouettes: &Silhouettes,
+    tol_px: f64,
+) -> Vec<Block> {
     let candidates: Vec<usize> = well_supported(pool, views.len())
         .into_iter()
-        .filter(|&i| inside_every_view(&pool[i].block, &silhouettes, tol_px))
+        .filter(|&i| inside_every_view(&pool[i].block, silhouettes, tol_px))
         .collect();
     let ghost = |c: &PooledCandidate, chosen: &[Block], settled: bool| {
         is_ghost(c, chosen, views, tol_px, settled)
@@ -230,6 +240,7 @@ fn take_lowest_first(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::recognize::grid_cubes;
 
     fn candidate(id: &'static str, y: f64, views: usize, fits: usize) -> PooledCandidate {
         PooledCandidate {
@@ -272,29 +283,19 @@ mod tests {
         assert_eq!(h.len(), 2, "a block resting on the first is taken after it");
     }
 
-    /// `b15` cubes of a 3 x 3 grid: the `layer`-th layer's cells `cells` (row-major).
-    fn cubes(layer: usize, cells: &[usize]) -> Vec<Block> {
-        cells
-            .iter()
-            .map(|&k| {
-                let centre = DVec3::new(
-                    (k % 3) as f64 * 15.0,
-                    layer as f64 * 15.0 + 7.5,
-                    (k / 3) as f64 * 15.0,
-                );
-                Block::new("b15", centre, 0.0)
-            })
-            .collect()
-    }
-
     /// The direct hypothesis from the exact four corner views of `truth`, and the same with
     /// no candidate ever taken for a ghost.
     fn direct_from(truth: &[Block]) -> (Vec<Block>, Vec<Block>) {
         use crate::recognize::{views_of, CornerView, RecognizeOptions};
         let views = views_of(truth, &CornerView::ALL);
         let opts = RecognizeOptions::default();
-        let pool = super::super::propose_and_pool(&views, &opts, true, &mut Default::default());
         let silhouettes = Silhouettes::new(&views);
+        let pool = super::super::propose_and_pool(
+            &views,
+            &opts,
+            Some(&silhouettes),
+            &mut Default::default(),
+        );
         let candidates: Vec<usize> = well_supported(&pool, views.len())
             .into_iter()
             .filter(|&i| inside_every_view(&pool[i].block, &silhouettes, opts.tol_px))
@@ -316,7 +317,11 @@ mod tests {
     fn ghosts_of_a_grid_layer_are_left_out_and_real_upper_blocks_kept() {
         // The 3 x 3 layer with a row of three on top (`bench render`'s 12-block stack): two
         // b7_5 ghosts over the layer's back half repeat its top faces in all four views.
-        let stack = [cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]), cubes(1, &[0, 1, 2])].concat();
+        let stack = [
+            grid_cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]),
+            grid_cubes(1, &[0, 1, 2]),
+        ]
+        .concat();
         let (direct, blind) = direct_from(&stack);
         assert!(same_blocks(&direct, &stack), "{direct:?}");
         assert!(
@@ -325,12 +330,16 @@ mod tests {
         );
         // One cube on the layer's edge: its top face may repeat lower ones, but its sides are
         // seen.
-        let on_edge = [cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]), cubes(1, &[1])].concat();
+        let on_edge = [
+            grid_cubes(0, &[0, 1, 2, 3, 4, 5, 6, 7, 8]),
+            grid_cubes(1, &[1]),
+        ]
+        .concat();
         assert!(same_blocks(&direct_from(&on_edge).0, &on_edge));
         // Two full layers: the upper middle shows no side, but its neighbours cover every
         // side, so it is no ghost.
         let all = [0, 1, 2, 3, 4, 5, 6, 7, 8];
-        let two_layers = [cubes(0, &all), cubes(1, &all)].concat();
+        let two_layers = [grid_cubes(0, &all), grid_cubes(1, &all)].concat();
         assert!(same_blocks(&direct_from(&two_layers).0, &two_layers));
     }
 

@@ -66,7 +66,7 @@ use crate::drawing::LineDrawing;
 use crate::scene::{Block, ReconStatus, ViewEvidence};
 use ambiguity::alternative_given_drawings;
 use compare::{choose_hypothesis, greedy_and_split_from, Hypothesis};
-use direct::Silhouettes;
+use direct::{direct_hypothesis_within, Silhouettes};
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -353,19 +353,20 @@ fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
 pub const SAME_PLACE_TOL_MM: f64 = 0.5;
 
 /// Steps 1-3 on every view and the pooling of step 4: the pooled candidates, with the views'
-/// evidence counts recorded in `evidence`. With `fit_only` (the direct path), a level is read
-/// only where the measured top corner is seen inside every view's silhouette, as the direct
-/// path requires of every corner of the blocks it takes ([`direct_hypothesis`]).
+/// evidence counts recorded in `evidence`. For the direct path (`direct_within` given: only
+/// exact fits), a level is read only where the measured top corner is seen inside every view's
+/// silhouette, as the direct path requires of every corner of the blocks it takes
+/// ([`direct_hypothesis`]).
 fn propose_and_pool(
     views: &[ObservedView],
     opts: &RecognizeOptions,
-    fit_only: bool,
+    direct_within: Option<&Silhouettes>,
     evidence: &mut Evidence,
 ) -> Vec<PooledCandidate> {
     let levels = level_heights_mm(opts.max_height_mm);
     evidence.views.clear();
-    let silhouettes = Silhouettes::new(if fit_only { views } else { &[] });
-    let corner_ok = |q: crate::geom::DVec3| !fit_only || silhouettes.hold(q, opts.tol_px);
+    let fit_only = direct_within.is_some();
+    let corner_ok = |q: crate::geom::DVec3| direct_within.is_none_or(|s| s.hold(q, opts.tol_px));
     let mut per_view = Vec::new();
     for v in views {
         let (proposals, ev) = propose(v, &levels, opts, fit_only, &corner_ok);
@@ -387,8 +388,9 @@ fn find_hypothesis(
     limits: &SearchLimits,
     evidence: &mut Evidence,
 ) -> Hypothesis {
-    let exact = propose_and_pool(views, opts, true, evidence);
-    let blocks = direct_hypothesis(&exact, views, limits.tol_px);
+    let silhouettes = Silhouettes::new(views);
+    let exact = propose_and_pool(views, opts, Some(&silhouettes), evidence);
+    let blocks = direct_hypothesis_within(&exact, views, &silhouettes, limits.tol_px);
     let direct = Hypothesis::new(blocks, views, limits.tol_px);
     if direct.mismatch() == 0 {
         return direct;
@@ -397,7 +399,7 @@ fn find_hypothesis(
     if pruned.mismatch() == 0 {
         return pruned;
     }
-    let pool = propose_and_pool(views, opts, false, evidence);
+    let pool = propose_and_pool(views, opts, None, evidence);
     let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
     if continued.mismatch() == 0 {
         return continued;
@@ -501,6 +503,23 @@ pub(crate) fn views_of(blocks: &[Block], which: &[CornerView]) -> Vec<ObservedVi
             let camera = Camera::frame(&pts, v, &CameraOptions::default());
             let drawing = draw_hypothesis(blocks, &camera);
             ObservedView { drawing, camera }
+        })
+        .collect()
+}
+
+/// `b15` cubes of a 3 x 3 grid, 15 mm apart: the `layer`-th layer's cells `cells` (row-major,
+/// x fastest); the stacks of the recognizer's unit tests.
+#[cfg(test)]
+pub(crate) fn grid_cubes(layer: usize, cells: &[usize]) -> Vec<Block> {
+    cells
+        .iter()
+        .map(|&k| {
+            let centre = crate::geom::DVec3::new(
+                (k % 3) as f64 * 15.0,
+                layer as f64 * 15.0 + 7.5,
+                (k / 3) as f64 * 15.0,
+            );
+            Block::new("b15", centre, 0.0)
         })
         .collect()
 }
