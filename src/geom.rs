@@ -136,12 +136,42 @@ pub fn convex_hull(points: &[DVec2]) -> Vec<DVec2> {
 /// Whether picture point `p` lies inside the counter-clockwise convex polygon `hull` grown by
 /// `tol_px` (a polygon of fewer than three points contains nothing).
 pub fn inside_convex(hull: &[DVec2], p: DVec2, tol_px: f64) -> bool {
-    let n = hull.len();
-    n >= 3
-        && (0..n).all(|k| {
-            let (a, b) = (hull[k], hull[(k + 1) % n]);
-            (b - a).perp_dot(p - a) >= -tol_px * (b - a).length()
-        })
+    ConvexRegion::new(hull).contains(p, tol_px)
+}
+
+/// A counter-clockwise convex polygon ready for many [`inside_convex`] questions: each edge's
+/// start, direction and length computed once (the recognizer asks every candidate corner of
+/// every layer height).
+#[derive(Debug, Clone)]
+pub struct ConvexRegion {
+    edges: Vec<(DVec2, DVec2, f64)>,
+}
+
+impl ConvexRegion {
+    /// The region of `hull`; empty when it has fewer than three points.
+    pub fn new(hull: &[DVec2]) -> ConvexRegion {
+        let n = hull.len();
+        let edges = if n < 3 {
+            Vec::new()
+        } else {
+            (0..n)
+                .map(|k| {
+                    let (a, b) = (hull[k], hull[(k + 1) % n]);
+                    (a, b - a, (b - a).length())
+                })
+                .collect()
+        };
+        ConvexRegion { edges }
+    }
+
+    /// Whether `p` lies inside the polygon grown by `tol_px`.
+    pub fn contains(&self, p: DVec2, tol_px: f64) -> bool {
+        !self.edges.is_empty()
+            && self
+                .edges
+                .iter()
+                .all(|&(a, e, len)| e.perp_dot(p - a) >= -tol_px * len)
+    }
 }
 
 /// Disjoint sets over `0..n` with path halving; a union keeps the smaller index as the root,

@@ -23,7 +23,7 @@ use super::compare::PooledCandidate;
 use super::constraints::overhangs;
 use super::{Camera, ObservedView, SAME_PLACE_TOL_MM};
 use crate::camera::Projector;
-use crate::geom::{convex_hull, inside_convex, DVec2, DVec3};
+use crate::geom::{convex_hull, ConvexRegion, DVec2, DVec3};
 use crate::scene::Block;
 use std::cmp::Reverse;
 
@@ -39,7 +39,7 @@ pub fn well_supported(pool: &[PooledCandidate], view_count: usize) -> Vec<usize>
 /// Each view's silhouette bound, the convex hull of its observed points, with the view's
 /// projection ready for many points.
 pub(super) struct Silhouettes {
-    views: Vec<(Projector, Vec<DVec2>)>,
+    views: Vec<(Projector, ConvexRegion)>,
 }
 
 impl Silhouettes {
@@ -47,7 +47,10 @@ impl Silhouettes {
     pub(super) fn new(views: &[ObservedView]) -> Silhouettes {
         let views = views
             .iter()
-            .map(|v| (Projector::new(&v.camera), convex_hull(&v.drawing.points)))
+            .map(|v| {
+                let hull = convex_hull(&v.drawing.points);
+                (Projector::new(&v.camera), ConvexRegion::new(&hull))
+            })
             .collect();
         Silhouettes { views }
     }
@@ -57,7 +60,7 @@ impl Silhouettes {
     pub(super) fn hold(&self, q_mm: DVec3, tol_px: f64) -> bool {
         self.views
             .iter()
-            .all(|(proj, hull)| inside_convex(hull, proj.picture(q_mm), tol_px))
+            .all(|(proj, region)| region.contains(proj.picture(q_mm), tol_px))
     }
 }
 
