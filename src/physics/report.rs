@@ -43,6 +43,9 @@ pub struct SettleReport {
     pub max_turn_deg: f64,
     /// All blocks stable and the stack at rest.
     pub stable: bool,
+    /// How many times the step was halved for a tall stack (`stiffened_for_layers`); 0 for
+    /// stacks within the sink budget.
+    pub stiffenings: u32,
 }
 
 impl SettleReport {
@@ -80,6 +83,7 @@ impl SettleReport {
             max_drift_mm,
             max_turn_deg,
             stable,
+            stiffenings: 0,
         }
     }
 
@@ -118,16 +122,22 @@ impl SettleReport {
         lines.join("\n")
     }
 
-    /// The `meta.settle` entry: max drift (mm, 6 decimals), max turn (deg), steps, stable.
-    /// Rounded so the file stays readable; the values are informative, not re-read.
+    /// The `meta.settle` entry: max drift (mm, 6 decimals), max turn (deg), steps, stable, and
+    /// `stiffenings` where the step was halved (absent otherwise, so the files of stacks within
+    /// the sink budget keep their bytes). Rounded so the file stays readable; the values are
+    /// informative, not re-read.
     pub fn to_meta(&self) -> Value {
         let round6 = |x: f64| (x * 1e6).round() / 1e6;
-        json!({
+        let mut meta = json!({
             "max_drift_mm": round6(self.max_drift_mm),
             "max_turn_deg": round6(self.max_turn_deg),
             "steps": self.steps,
             "stable": self.stable,
-        })
+        });
+        if self.stiffenings > 0 {
+            meta["stiffenings"] = json!(self.stiffenings);
+        }
+        meta
     }
 }
 

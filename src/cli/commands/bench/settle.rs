@@ -63,12 +63,14 @@ fn row(scene: &Scene, repeat: usize) -> anyhow::Result<(String, f64)> {
     let r = settled
         .with_context(|| format!("settling {}", scene.name))?
         .report;
+    let step_s = params.dt_s / f64::from(1u32 << r.stiffenings);
     let text = format!(
-        "| {} | {} | {ms:.2} | {} | {:.0} | {:.4} | {:.4} | {} |",
+        "| {} | {} | {ms:.2} | {} (1/{:.0} s) | {:.0} | {:.4} | {:.4} | {} |",
         scene.name,
         scene.blocks.len(),
         r.steps,
-        f64::from(r.steps) * params.dt_s * 1e3,
+        1.0 / step_s,
+        f64::from(r.steps) * step_s * 1e3,
         r.max_drift_mm,
         r.max_turn_deg,
         if r.stable { "stable" } else { "unstable" }
@@ -130,11 +132,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     outln!("{}", banner(None).trim_end())?;
     let p = SettleParams::default();
     outln!(
-        "rest: every body below {} mm/s and {} rad/s for {} s simulated (1/{:.0} s steps); ms = fastest of {}, one thread",
+        "rest: every body below {} mm/s and {} rad/s for {} s simulated (1/{:.0} s steps, halved while a stack's predicted sink exceeds {} mm); ms = fastest of {}, one thread",
         p.rest_speed_mm_s,
         p.rest_spin_rad_s,
         p.rest_hold_s,
         1.0 / p.dt_s,
+        p.sink_budget_mm,
         args.repeat.max(1)
     )?;
     outln!(
