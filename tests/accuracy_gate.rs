@@ -1,54 +1,112 @@
 //! The accuracy gate CI enforces on the method itself (README "Recognizer"): the committed
-//! suite (`scenes/bench/`) rendered in four noise-free orthographic corner views, the vision
-//! front end on the pictures, the modified Kanade recognizer and its CSG, scored against the
-//! truth (`blockworld::pipeline::run_suite`). It fails when a scene's verdict gets worse
-//! (exact > unsupported > partial > failed), its IoU drops more than 0.01 below
-//! `golden/accuracy.json`, or a known failure case stops being declined or exact; and it holds
-//! the recognizer to never being confidently wrong on more than 2% of the suite.
+//! suites rendered in four noise-free orthographic corner views, the vision front end on the
+//! pictures, the modified Kanade recognizer and its CSG, scored against the truth
+//! (`blockworld::pipeline::run_suite`). Three suites: `scenes/bench/` (the three basic blocks and
+//! the Chapter VII failure cases) against `golden/accuracy.json`, `scenes/chapter_vii/` (the
+//! trapezoidal block and the round part) against `golden/accuracy_chapter_vii.json`, and
+//! `scenes/bench/` in the photographic look against `golden/accuracy_photo.json`. It fails
+//! when a scene's verdict gets worse (exact > unsupported > partial > failed), its IoU drops
+//! more than 0.01 below golden, or a known failure case stops being declined or exact; and it
+//! holds the recognizer to never being confidently wrong on more than 2% of any suite.
 //!
 //! Re-bless on purpose with `BLESS=1 cargo test --test accuracy_gate` (or `make bless`) and
-//! review the diff of `golden/accuracy.json`.
+//! review the diff of the golden files.
 
 mod common;
 
 use blockworld::pipeline::{run_scene, run_suite, PipelineOptions, SceneRun};
 use blockworld::recognize::RecognizeOptions;
+use blockworld::render::{Look, RenderOptions};
 use blockworld::scene::{read_scene, Scene};
 use blockworld::score::{
     check_gate, summarize_by_family, GateFailure, Golden, Verdict, BLESS_COMMAND,
 };
 use std::sync::OnceLock;
 
-const GOLDEN: &str = "golden/accuracy.json";
+/// A committed suite, how its pictures are taken, and the golden file that holds it.
+struct Suite {
+    dir: &'static str,
+    look: Look,
+    golden: &'static str,
+}
 
-fn suite() -> &'static [(String, Scene)] {
-    static SUITE: OnceLock<Vec<(String, Scene)>> = OnceLock::new();
-    SUITE.get_or_init(|| {
-        common::json_files(&common::root().join("scenes/bench"))
-            .iter()
-            .map(|p| {
-                (
-                    common::stem(p),
-                    read_scene(p).unwrap_or_else(|e| panic!("{e}")),
-                )
-            })
-            .collect()
-    })
+/// The three basic blocks and the Chapter VII failure cases, in line art.
+const BASIC: Suite = Suite {
+    dir: "scenes/bench",
+    look: Look::LineArt,
+    golden: "golden/accuracy.json",
+};
+
+/// The trapezoidal block and the round part (Ch. VII, Figure 7.1), in line art.
+const CHAPTER_VII: Suite = Suite {
+    dir: "scenes/chapter_vii",
+    look: Look::LineArt,
+    golden: "golden/accuracy_chapter_vii.json",
+};
+
+/// The basic suite in the photographic look (README "Photographic look"), 512 x 480.
+const PHOTO: Suite = Suite {
+    dir: "scenes/bench",
+    look: Look::Photo,
+    golden: "golden/accuracy_photo.json",
+};
+
+impl Suite {
+    /// The pipeline's options for this suite: the defaults in the suite's look.
+    fn options(&self) -> PipelineOptions {
+        PipelineOptions {
+            render: RenderOptions {
+                look: self.look,
+                ..RenderOptions::default()
+            },
+            ..PipelineOptions::default()
+        }
+    }
+}
+
+fn read_suite(suite: &Suite) -> Vec<(String, Scene)> {
+    common::json_files(&common::root().join(suite.dir))
+        .iter()
+        .map(|p| {
+            (
+                common::stem(p),
+                read_scene(p).unwrap_or_else(|e| panic!("{e}")),
+            )
+        })
+        .collect()
+}
+
+fn scenes(suite: &Suite) -> &'static [(String, Scene)] {
+    static BASIC_SCENES: OnceLock<Vec<(String, Scene)>> = OnceLock::new();
+    static CHAPTER_VII_SCENES: OnceLock<Vec<(String, Scene)>> = OnceLock::new();
+    let cell = if suite.dir == CHAPTER_VII.dir {
+        &CHAPTER_VII_SCENES
+    } else {
+        &BASIC_SCENES
+    };
+    cell.get_or_init(|| read_suite(suite))
 }
 
 /// The suite through the whole pipeline, once per test binary; `None` without a renderer
 /// (skipped unless `BLOCKWORLD_REQUIRE_GPU` is set).
-fn runs() -> Option<&'static [SceneRun]> {
-    static RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
-    RUNS.get_or_init(|| {
+fn runs(suite: &Suite) -> Option<&'static [SceneRun]> {
+    static BASIC_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
+    static CHAPTER_VII_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
+    static PHOTO_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
+    let cell = match suite.golden {
+        g if g == CHAPTER_VII.golden => &CHAPTER_VII_RUNS,
+        g if g == PHOTO.golden => &PHOTO_RUNS,
+        _ => &BASIC_RUNS,
+    };
+    cell.get_or_init(|| {
         let renderer = common::renderer()?;
-        Some(run_suite(&renderer, suite(), &PipelineOptions::default()))
+        Some(run_suite(&renderer, scenes(suite), &suite.options()))
     })
     .as_deref()
 }
 
-fn golden() -> Golden {
-    let path = common::root().join(GOLDEN);
+fn golden(suite: &Suite) -> Golden {
+    let path = common::root().join(suite.golden);
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("{}: {e}; create it with {BLESS_COMMAND}", path.display()));
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -56,7 +114,23 @@ fn golden() -> Golden {
 
 #[test]
 fn the_recognizer_does_not_regress_against_golden() {
-    let Some(runs) = runs() else { return };
+    holds_against_golden(&BASIC);
+}
+
+#[test]
+fn the_trapezoidal_block_and_the_round_part_do_not_regress_against_golden() {
+    holds_against_golden(&CHAPTER_VII);
+}
+
+#[test]
+fn the_photographic_look_does_not_regress_against_golden() {
+    holds_against_golden(&PHOTO);
+}
+
+/// Prints the suite's verdicts and fails on a regression against its golden file (or writes
+/// it under `BLESS`).
+fn holds_against_golden(suite: &Suite) {
+    let Some(runs) = runs(suite) else { return };
     let results: Vec<_> = runs.iter().map(|r| r.result.clone()).collect();
     for r in runs {
         let res = &r.result;
@@ -80,7 +154,7 @@ fn the_recognizer_does_not_regress_against_golden() {
             f.family, f.scenes, f.exact_share, f.mean_iou, f.declined, f.confidently_wrong
         );
     }
-    let path = common::root().join(GOLDEN);
+    let path = common::root().join(suite.golden);
     if std::env::var_os("BLESS").is_some() {
         let golden = Golden::from_results(&results, BLESS_COMMAND);
         let text = serde_json::to_string_pretty(&golden).unwrap() + "\n";
@@ -88,10 +162,11 @@ fn the_recognizer_does_not_regress_against_golden() {
         eprintln!("BLESSED {}", path.display());
         return;
     }
-    let failures = check_gate(&golden(), &results);
+    let failures = check_gate(&golden(suite), &results);
     assert!(
         failures.is_empty(),
-        "accuracy gate failed:\n{}\nfix the regression, or accept it on purpose with {BLESS_COMMAND}",
+        "accuracy gate failed on {}:\n{}\nfix the regression, or accept it on purpose with {BLESS_COMMAND}",
+        suite.dir,
         failures.iter().map(|f| format!("  {f}")).collect::<Vec<_>>().join("\n")
     );
 }
@@ -101,14 +176,31 @@ fn the_recognizer_does_not_regress_against_golden() {
 /// exact.
 #[test]
 fn the_recognizer_is_rarely_confidently_wrong_and_declines_what_it_cannot_do() {
-    let Some(runs) = runs() else { return };
+    rarely_confidently_wrong(&BASIC);
+}
+
+/// The same on the Chapter VII suite: every round part declined, no wedge answered wrongly.
+#[test]
+fn the_chapter_vii_parts_are_rarely_confidently_wrong_and_round_parts_are_declined() {
+    rarely_confidently_wrong(&CHAPTER_VII);
+}
+
+/// The same on camera-like pictures: a recognizer that cannot explain them declines.
+#[test]
+fn the_photographic_look_is_rarely_confidently_wrong() {
+    rarely_confidently_wrong(&PHOTO);
+}
+
+fn rarely_confidently_wrong(suite: &Suite) {
+    let Some(runs) = runs(suite) else { return };
     let wrong: Vec<&str> = runs
         .iter()
         .filter(|r| r.result.confidently_wrong)
         .map(|r| r.result.id.as_str())
         .collect();
     println!(
-        "confidently wrong: {} of {}: {wrong:?}",
+        "{}: confidently wrong: {} of {}: {wrong:?}",
+        suite.dir,
         wrong.len(),
         runs.len()
     );
@@ -135,7 +227,7 @@ fn the_gate_fails_on_a_worse_recognizer() {
     let Some(renderer) = common::renderer() else {
         return;
     };
-    let golden = golden();
+    let golden = golden(&BASIC);
     let exact: Vec<&str> = golden
         .scenes
         .iter()
@@ -155,7 +247,7 @@ fn the_gate_fails_on_a_worse_recognizer() {
         },
         ..PipelineOptions::default()
     };
-    let results: Vec<_> = suite()
+    let results: Vec<_> = scenes(&BASIC)
         .iter()
         .filter(|(id, _)| exact.contains(&id.as_str()))
         .map(|(id, s)| run_scene(&renderer, id, s, &worse).result)

@@ -5,9 +5,15 @@
 //! `--recognizer DIR` scores someone else's reconstruction files `<scene-id>.json` instead (a
 //! missing file counts as `failed`). `--make-reference DIR` writes the constructed reference
 //! set (`score::make_reference_reconstructions`) that `tests/scorer_reference.rs` scores.
+//! `--family F --count N --seed S` draws the suite with the generator instead of reading it: the
+//! scenes `generate --family F --count N --seed S` writes, settled in memory (README "Scoring and
+//! the accuracy suite").
 
+use crate::cli::commands::generate::parse_families;
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
+use blockworld::dataset::{draw_stable_scene, SceneSpec};
+use blockworld::physics::SettleParams;
 use blockworld::pipeline::{run_suite, DrawingSource, PipelineOptions};
 use blockworld::render::Renderer;
 use blockworld::scene::{read_reconstruction, read_scene, reconstruction_to_json, Scene};
@@ -45,11 +51,22 @@ pub struct Args {
     /// Write the constructed reference reconstructions of the suite into DIR and stop.
     #[arg(long, value_name = "DIR")]
     pub make_reference: Option<PathBuf>,
+    /// Instead of `--suite`: draw the suite with the generator from these families (repeat or
+    /// comma-separate; e.g. wedge, round), `--count` scenes from the dataset seed `--seed`.
+    #[arg(long = "family", value_delimiter = ',', conflicts_with = "recognizer")]
+    pub families: Vec<String>,
+    /// How many scenes `--family` draws.
+    #[arg(long, default_value_t = 48)]
+    pub count: u64,
 }
 
 /// Runs `blockworld bench accuracy`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let suite = read_suite(&args.suite)?;
+    let suite = if args.families.is_empty() {
+        read_suite(&args.suite)?
+    } else {
+        drawn_suite(&args.families, args.count, args.view.seed)?
+    };
     if let Some(dir) = &args.make_reference {
         return write_reference(dir, &suite);
     }
@@ -102,7 +119,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("FAILED {}: {}", r.id, r.note.as_deref().unwrap_or_default());
     }
     let report = serde_json::json!({
-        "suite": args.suite,
+        "suite": if args.families.is_empty() {
+            args.suite.display().to_string()
+        } else {
+            format!("generate --family {} --count {} --seed {}", args.families.join(","), args.count, args.view.seed)
+        },
         "recognizer": args.recognizer.as_ref().map_or("blockworld".into(), |d| d.display().to_string()),
         "from_truth": args.from_truth,
         "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
@@ -170,6 +191,23 @@ fn run_recognizer(
         unseen,
         undecided,
     ))
+}
+
+/// The scenes `generate --family F --count N --seed S` would write, drawn and settled in memory
+/// (`dataset::draw_stable_scene`, the generator's own path), with their ids.
+fn drawn_suite(families: &[String], count: u64, seed: u64) -> anyhow::Result<Vec<(String, Scene)>> {
+    let families = parse_families(families)?;
+    if count == 0 {
+        bail!("--count 0: draw at least one scene");
+    }
+    (0..count)
+        .map(|index| {
+            let spec = SceneSpec::new(seed, index, &families);
+            let drawn = draw_stable_scene(&spec, &SettleParams::default())
+                .with_context(|| format!("drawing scene {} of the suite", spec.id()))?;
+            Ok((spec.id(), drawn.scene))
+        })
+        .collect()
 }
 
 /// Reads every `*.json` scene of the suite directory, sorted by id (the file stem).

@@ -1,6 +1,8 @@
 //! `blockworld bench generate`: scenes/s of dataset generation (settle, render four views,
 //! write) and the time split between the stages (README "Settling and datasets"; target >= 40 scenes/s
-//! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores).
+//! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores), for each look asked (line art and
+//! the photographic look by default, side by side with the photo / line art ratio: README
+//! "Photographic look").
 
 use crate::cli::commands::generate::{checked_options, renderer_for};
 use crate::cli::progress::with_progress;
@@ -21,70 +23,148 @@ pub struct Args {
     /// Families (default all).
     #[arg(long = "family", value_delimiter = ',')]
     pub families: Vec<String>,
+    /// Looks to measure, one dataset each, in this order (each overrides `--look`).
+    #[arg(long, value_delimiter = ',', default_value = "lineart,photo")]
+    pub looks: Vec<String>,
     /// View options; `--views ""` measures settling and writing only. `--seed` is the dataset seed.
     #[command(flatten)]
     pub view: ViewArgs,
 }
 
-/// Runs the benchmark into a temporary directory (removed afterwards) and prints a table.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let opts = checked_options(
-        args.count,
-        &args.families,
-        &args.view,
-        args.jobs,
-        Shard::WHOLE,
-    )?;
-    let renderer = renderer_for(&args.view)?;
-    let dir = std::env::temp_dir().join(format!("blockworld-bench-{}", std::process::id()));
+/// What one look's dataset took.
+struct Measured {
+    look: String,
+    generated: u64,
+    wall_s: f64,
+    /// Seconds summed over threads: draw + settle, render, write.
+    stages_s: [f64; 3],
+    blocks: u64,
+    unstable_draws: u64,
+}
+
+impl Measured {
+    /// Milliseconds per scene of each stage, on one thread.
+    fn stage_ms(&self) -> [f64; 3] {
+        let n = self.generated.max(1) as f64;
+        self.stages_s.map(|s| s * 1e3 / n)
+    }
+
+    fn scenes_per_s(&self) -> f64 {
+        self.generated as f64 / self.wall_s.max(1e-12)
+    }
+}
+
+const STAGES: [&str; 3] = ["draw + settle", "render", "write (encode, hash, rename)"];
+
+/// Generates one dataset in `look` into a temporary directory (removed afterwards).
+fn measure(args: &Args, look: &str) -> anyhow::Result<(Measured, usize, Option<String>)> {
+    let view = ViewArgs {
+        look: look.to_string(),
+        ..args.view.clone()
+    };
+    let opts = checked_options(args.count, &args.families, &view, args.jobs, Shard::WHOLE)?;
+    let renderer = renderer_for(&view)?;
+    let dir = std::env::temp_dir().join(format!("blockworld-bench-{}-{look}", std::process::id()));
     let started = Instant::now();
-    let result = with_progress("bench generate", "scenes", opts.count, |p| {
-        generate_dataset(&dir, &opts, renderer.as_ref(), p)
-    });
+    let result = with_progress(
+        &format!("bench generate ({look})"),
+        "scenes",
+        opts.count,
+        |p| generate_dataset(&dir, &opts, renderer.as_ref(), p),
+    );
     let wall_s = started.elapsed().as_secs_f64();
     let _ = std::fs::remove_dir_all(&dir);
-    let s = result.context("bench generate")?;
+    let s = result.with_context(|| format!("bench generate, look {look}"))?;
     let threads = if opts.jobs == 0 {
         rayon::current_num_threads()
     } else {
         opts.jobs
     };
     let t = s.times;
-    let busy = (t.settle_s + t.render_s + t.write_s).max(1e-12);
-    let n = s.generated.max(1) as f64;
-    let [w, h] = opts.render.camera.size_px;
-    let load = std::fs::read_to_string("/proc/loadavg")
-        .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "unknown".into());
+    let measured = Measured {
+        look: look.to_string(),
+        generated: s.generated,
+        wall_s,
+        stages_s: [t.settle_s, t.render_s, t.write_s],
+        blocks: s.blocks,
+        unstable_draws: s.unstable_draws,
+    };
+    Ok((measured, threads, renderer.map(|r| r.adapter_info())))
+}
+
+/// Runs the benchmark, one dataset per look, and prints one table with a column per look.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        !args.looks.is_empty(),
+        "--looks: name at least one look (lineart, photo)"
+    );
+    outln!("{}", super::machine::banner(None).trim_end())?;
+    let mut runs = Vec::new();
+    let mut header = None;
+    for look in &args.looks {
+        let (m, threads, adapter) = measure(&args, look.trim())?;
+        header.get_or_insert((threads, adapter));
+        runs.push(m);
+    }
+    let (threads, adapter) = header.unwrap_or_default();
+    let [w, h] = args.view.render_options()?.camera.size_px;
     outln!(
-        "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads, load average {load}{}",
-        s.generated,
-        opts.views.len(),
-        renderer
-            .as_ref()
-            .map(|r| format!(", {}", r.adapter_info()))
-            .unwrap_or_default()
+        "bench generate: {} scenes, {} views of {w}x{h}, {threads} threads{}",
+        runs[0].generated,
+        args.view.corner_views()?.len(),
+        adapter.map(|a| format!(", {a}")).unwrap_or_default()
     )?;
-    outln!("| stage | ms per scene (one thread) | share |")?;
-    outln!("|---|---|---|")?;
-    for (name, secs) in [
-        ("draw + settle", t.settle_s),
-        ("render", t.render_s),
-        ("write (encode, hash, rename)", t.write_s),
-    ] {
+    outln!("{}", table(&runs))?;
+    for m in &runs {
         outln!(
-            "| {name} | {:.3} | {:.1}% |",
-            secs * 1e3 / n,
-            100.0 * secs / busy
+            "{}: wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
+            m.look,
+            m.wall_s,
+            m.scenes_per_s(),
+            m.blocks as f64 / m.generated.max(1) as f64,
+            m.unstable_draws
         )?;
     }
-    let blocks = s.blocks;
-    outln!(
-        "wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
-        wall_s,
-        s.generated as f64 / wall_s.max(1e-12),
-        blocks as f64 / n,
-        s.unstable_draws
-    )?;
     Ok(())
+}
+
+/// The table: ms per scene of each stage on one thread and scenes/s, a column per look, and
+/// each later look's ratio to the first (photo / line art).
+fn table(runs: &[Measured]) -> String {
+    let first = &runs[0];
+    let mut head = String::from("| stage |");
+    let mut rule = String::from("|---|");
+    for m in runs {
+        head += &format!(" {} ms per scene (one thread) |", m.look);
+        rule += "---|";
+    }
+    for m in &runs[1..] {
+        head += &format!(" {} / {} |", m.look, first.look);
+        rule += "---|";
+    }
+    let mut out = format!("{head}\n{rule}\n");
+    for (i, stage) in STAGES.iter().enumerate() {
+        out += &format!("| {stage} |");
+        for m in runs {
+            out += &format!(" {:.3} |", m.stage_ms()[i]);
+        }
+        for m in &runs[1..] {
+            out += &format!(
+                " {:.2}x |",
+                m.stage_ms()[i] / first.stage_ms()[i].max(1e-12)
+            );
+        }
+        out += "\n";
+    }
+    out += "| scenes/s (wall) |";
+    for m in runs {
+        out += &format!(" {:.1} |", m.scenes_per_s());
+    }
+    for m in &runs[1..] {
+        out += &format!(
+            " {:.2}x the time |",
+            first.scenes_per_s() / m.scenes_per_s().max(1e-12)
+        );
+    }
+    out.trim_end().to_string()
 }
