@@ -55,12 +55,17 @@ struct VertexOut {
 // those, and the floor, which has no edge line, carries none. Unused slots hold a line far
 // outside the picture that is never seam, so leaving them out changes no pixel.
 
-// A face with at most four edge lines: slots 0..3 in three vec4s.
+// A face with at most four edge lines: slots 0..3 in three vec4s, with each line's norm and
+// seam limit computed once per vertex (see seam_limit_px) instead of once per pixel.
 struct FourLinesOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) lines_0: vec4<f32>,
     @location(1) @interpolate(flat) lines_1: vec4<f32>,
     @location(2) @interpolate(flat) lines_2: vec4<f32>,
+    // |l.xy| of the four lines.
+    @location(3) @interpolate(flat) norms: vec4<f32>,
+    // seam_limit_px of the four lines.
+    @location(4) @interpolate(flat) limits_px: vec4<f32>,
     @location(6) depth_mm: f32,
     @location(7) @interpolate(flat) shade: vec2<u32>,
 };
@@ -96,6 +101,12 @@ fn vs_four_lines(v: VertexIn) -> FourLinesOut {
     out.lines_0 = v.lines_0;
     out.lines_1 = v.lines_1;
     out.lines_2 = v.lines_2;
+    let l0 = v.lines_0.xyz;
+    let l1 = vec3<f32>(v.lines_0.w, v.lines_1.xy);
+    let l2 = vec3<f32>(v.lines_1.zw, v.lines_2.x);
+    let l3 = v.lines_2.yzw;
+    out.norms = vec4<f32>(length(l0.xy), length(l1.xy), length(l2.xy), length(l3.xy));
+    out.limits_px = vec4<f32>(seam_limit_px(l0), seam_limit_px(l1), seam_limit_px(l2), seam_limit_px(l3));
     out.depth_mm = -dot(frame.view_z_row, p);
     out.shade = v.shade;
     return out;
@@ -120,6 +131,35 @@ fn seam_of_line(l: vec3<f32>, f: vec2<f32>) -> bool {
     let d = abs(l.x * f.x + l.y * f.y + l.z) / n;
     let step_px = max(abs(l.x), abs(l.y)) / n;
     return d < frame.seam_half_width_px || (n > 1.5 && d < step_px);
+}
+
+// The distance below which a pixel centre is seam for edge line `l`, the same test as
+// seam_of_line: d < half width, or for a silhouette line also d < step_px, is d below the larger
+// of the two. The same f32 operations as seam_of_line, so the same bits.
+fn seam_limit_px(l: vec3<f32>) -> f32 {
+    let n = length(l.xy);
+    let step_px = max(abs(l.x), abs(l.y)) / n;
+    return select(frame.seam_half_width_px, max(frame.seam_half_width_px, step_px), n > 1.5);
+}
+
+// seam_of_line with the line's norm `n` and seam_limit_px `limit_px` computed beforehand.
+fn seam_of_line_within(l: vec3<f32>, n: f32, limit_px: f32, f: vec2<f32>) -> bool {
+    return abs(l.x * f.x + l.y * f.y + l.z) / n < limit_px;
+}
+
+// Whether the pixel centre `f` is seam for any of the four lines of a FourLinesOut.
+fn seam_of_four_lines_within(in: FourLinesOut) -> bool {
+    let f = in.clip.xy;
+    let u0 = in.lines_0;
+    let u1 = in.lines_1;
+    let u2 = in.lines_2;
+    let n = in.norms;
+    let m = in.limits_px;
+    let s0 = seam_of_line_within(u0.xyz, n.x, m.x, f)
+        || seam_of_line_within(vec3<f32>(u0.w, u1.xy), n.y, m.y, f);
+    let s1 = seam_of_line_within(vec3<f32>(u1.zw, u2.x), n.z, m.z, f)
+        || seam_of_line_within(u2.yzw, n.w, m.w, f);
+    return s0 || s1;
 }
 
 // Whether the pixel centre `f` is seam for any of the four lines packed into `u0`, `u1`, `u2`.
@@ -170,8 +210,7 @@ fn fs_all(in: VertexOut) -> AllOut {
 @fragment
 fn fs_all_four_lines(in: FourLinesOut) -> AllOut {
     var out: AllOut;
-    let seam = seam_of_four_lines(in.lines_0, in.lines_1, in.lines_2, in.clip.xy);
-    out.gray = gray_level(in.shade, seam);
+    out.gray = gray_level(in.shade, seam_of_four_lines_within(in));
     out.depth = depth_of(in.depth_mm);
     out.id = in.shade.y;
     return out;
@@ -196,8 +235,7 @@ fn fs_gray(in: VertexOut) -> @location(0) vec4<f32> {
 // fs_gray for a face with at most four edge lines.
 @fragment
 fn fs_gray_four_lines(in: FourLinesOut) -> @location(0) vec4<f32> {
-    let seam = seam_of_four_lines(in.lines_0, in.lines_1, in.lines_2, in.clip.xy);
-    return gray_level(in.shade, seam);
+    return gray_level(in.shade, seam_of_four_lines_within(in));
 }
 
 // fs_gray for a face without edge lines.
