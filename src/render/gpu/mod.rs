@@ -705,8 +705,8 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
     let make = |entries: [&str; 2], targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
         create_pipeline(device, &module, &layout, entries, targets, samples)
     };
-    let variants = |fragment: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
-        SeamPipelines {
+    let variants =
+        |fragment: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| SeamPipelines {
             none: make(
                 ["vs_no_lines", &format!("{fragment}_no_lines")],
                 targets,
@@ -718,8 +718,7 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
                 samples,
             ),
             eight: make(["vs_main", fragment], targets, samples),
-        }
-    };
+        };
     let pipelines = Pipelines {
         all: variants("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
         gray_msaa4: variants("fs_gray", &[gray], 4),
