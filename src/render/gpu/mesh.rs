@@ -260,6 +260,52 @@ fn push_face(
     }
 }
 
+/// How many edge-line slots the fragment shader tests for a triangle (`shaders/scene.wgsl`):
+/// the seam (README "Rendering") is the costliest part of shading a pixel, so each triangle is
+/// drawn with the shader variant that tests only the slots its face uses. A slot left out holds
+/// [`NO_EDGE_LINE`], which is never seam, so the pictures are those of testing all slots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeamLines {
+    /// No edge line (the floor).
+    None,
+    /// Lines in slots 0..4 only (every catalog face and a round part's facets).
+    Four,
+    /// Lines up to slot 8 ([`MAX_FACE_EDGES`]).
+    Eight,
+}
+
+impl SeamLines {
+    /// The variant that tests every used slot of `edge_lines_px`.
+    pub fn of(edge_lines_px: &[[f32; 3]; MAX_FACE_EDGES]) -> SeamLines {
+        let used = edge_lines_px
+            .iter()
+            .rposition(|l| *l != NO_EDGE_LINE)
+            .map_or(0, |last| last + 1);
+        match used {
+            0 => SeamLines::None,
+            1..=4 => SeamLines::Four,
+            _ => SeamLines::Eight,
+        }
+    }
+}
+
+/// The triangle list `vertices` cut into runs of consecutive triangles that share a
+/// [`SeamLines`] variant, in drawing order (so depth ties resolve as in one draw: the first
+/// drawn wins): vertex ranges with their variant. A block stack gives two runs, its faces and
+/// the floor.
+pub fn seam_line_runs(vertices: &[Vertex]) -> Vec<(std::ops::Range<u32>, SeamLines)> {
+    let mut runs: Vec<(std::ops::Range<u32>, SeamLines)> = Vec::new();
+    for (t, triangle) in vertices.chunks(3).enumerate() {
+        let lines = SeamLines::of(&triangle[0].edge_lines_px);
+        let range = (3 * t) as u32..(3 * t + triangle.len()) as u32;
+        match runs.last_mut() {
+            Some((run, kind)) if *kind == lines => run.end = range.end,
+            _ => runs.push((range, lines)),
+        }
+    }
+    runs
+}
+
 /// The lines through the projected edges of a face, in framebuffer px: `(a, b, c)` with
 /// `a^2 + b^2 = 1`, so `|a x + b y + c|` is the distance of pixel point `(x, y)` from the line.
 pub fn edge_lines_px(corners: &[DVec3], camera: &Camera) -> [[f32; 3]; MAX_FACE_EDGES] {
@@ -368,6 +414,40 @@ mod tests {
             let n = (b - a).cross(c - a);
             assert!(n.dot((a + b + c) / 3.0 - DVec3::new(0.0, 7.5, 0.0)) > 0.0);
         }
+    }
+
+    /// The stack's faces test four slots, the floor none; a face using slot 5 needs all eight,
+    /// and runs keep the drawing order.
+    #[test]
+    fn seam_line_runs_follow_the_slots_each_face_uses() {
+        let scene = cube();
+        let cam = Camera::frame(
+            &scene.blocks[0].world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let mut v = scene_vertices(&scene, &cam).unwrap();
+        assert_eq!(
+            seam_line_runs(&v),
+            vec![(0..36, SeamLines::Four), (36..42, SeamLines::None)]
+        );
+        // A line in slot 5 of the second triangle (its face's first half) splits the run.
+        for p in &mut v[3..6] {
+            p.edge_lines_px[5] = [0.0, 1.0, -10.0];
+        }
+        assert_eq!(
+            seam_line_runs(&v),
+            vec![
+                (0..3, SeamLines::Four),
+                (3..6, SeamLines::Eight),
+                (6..36, SeamLines::Four),
+                (36..42, SeamLines::None)
+            ]
+        );
+        let mut only_slot_1 = [NO_EDGE_LINE; MAX_FACE_EDGES];
+        only_slot_1[1] = [1.0, 0.0, -3.0];
+        assert_eq!(SeamLines::of(&only_slot_1), SeamLines::Four);
+        assert_eq!(seam_line_runs(&[]), vec![]);
     }
 
     /// A round part: 64 side quads and two 64-triangle fans (256 triangles); seams only on rim

@@ -16,7 +16,7 @@ pub mod mesh;
 pub mod photo;
 
 use super::{Backend, RenderError};
-use mesh::Vertex;
+use mesh::{SeamLines, Vertex};
 use std::sync::{Arc, Mutex};
 
 /// The shader source, compiled in so an edited shader triggers a rebuild.
@@ -78,11 +78,36 @@ pub struct Frame {
     pub ids: Vec<u16>,
 }
 
+/// The pipelines of one pass, one per [`SeamLines`] variant of the shader.
+struct SeamPipelines {
+    none: wgpu::RenderPipeline,
+    four: wgpu::RenderPipeline,
+    eight: wgpu::RenderPipeline,
+}
+
+/// A pass's pipeline for each [`SeamLines`] variant.
+type PipelineOf<'a> = [&'a wgpu::RenderPipeline; 3];
+
+impl SeamPipelines {
+    fn by_variant(&self) -> PipelineOf<'_> {
+        [&self.none, &self.four, &self.eight]
+    }
+}
+
+/// The index of `lines` in a [`PipelineOf`].
+fn variant_index(lines: SeamLines) -> usize {
+    match lines {
+        SeamLines::None => 0,
+        SeamLines::Four => 1,
+        SeamLines::Eight => 2,
+    }
+}
+
 struct Pipelines {
     /// Single-sampled gray + depth + ids.
-    all: wgpu::RenderPipeline,
+    all: SeamPipelines,
     /// Gray only, 4 samples.
-    gray_msaa4: wgpu::RenderPipeline,
+    gray_msaa4: SeamPipelines,
     /// Depth + ids, single-sampled.
     truth: wgpu::RenderPipeline,
 }
@@ -280,16 +305,20 @@ impl Gpu {
         let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let ranges = self.upload(&mut state.vertices, requests);
+        let firsts = self.upload(&mut state.vertices, requests);
         let vbuf = state.vertices.as_ref().expect("uploaded");
         let targets = self.targets(&mut state.targets, size, msaa);
         self.ensure_readbacks(targets, requests.len());
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        for (i, range) in ranges.into_iter().enumerate() {
+        for (i, (request, first)) in requests.iter().zip(firsts).enumerate() {
             let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
-            self.encode_passes(&mut encoder, targets, vbuf, range, uniform_offset);
+            let runs: Vec<_> = mesh::seam_line_runs(request.vertices)
+                .into_iter()
+                .map(|(r, lines)| (r.start + first..r.end + first, lines))
+                .collect();
+            self.encode_passes(&mut encoder, targets, vbuf, &runs, uniform_offset);
             encode_readback(&mut encoder, targets, &targets.readbacks[i]);
         }
         self.queue.submit([encoder.finish()]);
@@ -313,19 +342,15 @@ impl Gpu {
     }
 
     /// Writes every request's vertices one after another into the vertex buffer and its
-    /// uniforms at `i * UNIFORM_STRIDE`; returns each frame's vertex range.
-    fn upload(
-        &self,
-        slot: &mut Option<wgpu::Buffer>,
-        requests: &[FrameRequest<'_>],
-    ) -> Vec<std::ops::Range<u32>> {
+    /// uniforms at `i * UNIFORM_STRIDE`; returns each frame's first vertex.
+    fn upload(&self, slot: &mut Option<wgpu::Buffer>, requests: &[FrameRequest<'_>]) -> Vec<u32> {
         let total_bytes: u64 = requests
             .iter()
             .map(|r| std::mem::size_of_val(r.vertices) as u64)
             .sum();
         let vbuf = self.vertex_buffer(slot, total_bytes);
         let (mut byte_offset, mut first) = (0u64, 0u32);
-        let mut ranges = Vec::with_capacity(requests.len());
+        let mut firsts = Vec::with_capacity(requests.len());
         for (i, r) in requests.iter().enumerate() {
             let bytes: &[u8] = bytemuck::cast_slice(r.vertices);
             self.queue.write_buffer(vbuf, byte_offset, bytes);
@@ -334,12 +359,11 @@ impl Gpu {
                 i as u64 * UNIFORM_STRIDE,
                 bytemuck::bytes_of(&r.uniforms),
             );
-            let count = r.vertices.len() as u32;
-            ranges.push(first..first + count);
+            firsts.push(first);
             byte_offset += bytes.len() as u64;
-            first += count;
+            first += r.vertices.len() as u32;
         }
-        ranges
+        firsts
     }
 
     /// Creates readback buffers until `targets` has one per frame of the submission.
@@ -442,12 +466,14 @@ impl Gpu {
         }
     }
 
+    /// Records the frame's passes: each run of triangles (`runs`, vertex ranges in drawing
+    /// order) drawn with the pipeline of its [`SeamLines`] variant.
     fn encode_passes(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         t: &Targets,
         vbuf: &wgpu::Buffer,
-        vertices: std::ops::Range<u32>,
+        runs: &[(std::ops::Range<u32>, SeamLines)],
         uniform_offset: u32,
     ) {
         let background = f64::from(super::BACKGROUND_LEVEL) / 255.0;
@@ -475,7 +501,7 @@ impl Gpu {
                 store: wgpu::StoreOp::Store,
             },
         };
-        let mut pass = |pipeline: &wgpu::RenderPipeline,
+        let mut pass = |pipeline: PipelineOf<'_>,
                         colors: &[Option<wgpu::RenderPassColorAttachment>],
                         depth_buffer: &wgpu::TextureView| {
             let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -491,14 +517,16 @@ impl Gpu {
                 }),
                 ..Default::default()
             });
-            rp.set_pipeline(pipeline);
             rp.set_bind_group(0, &self.bind_group, &[uniform_offset]);
             rp.set_vertex_buffer(0, vbuf.slice(..));
-            rp.draw(vertices.clone(), 0..1);
+            for (vertices, lines) in runs {
+                rp.set_pipeline(pipeline[variant_index(*lines)]);
+                rp.draw(vertices.clone(), 0..1);
+            }
         };
         match &t.msaa_views {
             None => pass(
-                &self.pipelines.all,
+                self.pipelines.all.by_variant(),
                 &[
                     Some(gray_target(&t.gray_view, None)),
                     Some(truth_target(&t.depth_view)),
@@ -508,12 +536,12 @@ impl Gpu {
             ),
             Some((color, depth_buffer)) => {
                 pass(
-                    &self.pipelines.gray_msaa4,
+                    self.pipelines.gray_msaa4.by_variant(),
                     &[Some(gray_target(color, Some(&t.gray_view)))],
                     depth_buffer,
                 );
                 pass(
-                    &self.pipelines.truth,
+                    [&self.pipelines.truth; 3],
                     &[
                         Some(truth_target(&t.depth_view)),
                         Some(truth_target(&t.ids_view)),
@@ -674,13 +702,27 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
         blend: None,
         write_mask: wgpu::ColorWrites::ALL,
     });
-    let make = |entry: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
-        create_pipeline(device, &module, &layout, entry, targets, samples)
+    let make = |entries: [&str; 2], targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
+        create_pipeline(device, &module, &layout, entries, targets, samples)
     };
+    let variants =
+        |fragment: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| SeamPipelines {
+            none: make(
+                ["vs_no_lines", &format!("{fragment}_no_lines")],
+                targets,
+                samples,
+            ),
+            four: make(
+                ["vs_four_lines", &format!("{fragment}_four_lines")],
+                targets,
+                samples,
+            ),
+            eight: make(["vs_main", fragment], targets, samples),
+        };
     let pipelines = Pipelines {
-        all: make("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
-        gray_msaa4: make("fs_gray", &[gray], 4),
-        truth: make("fs_truth", &[truth.clone(), truth], 1),
+        all: variants("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
+        gray_msaa4: variants("fs_gray", &[gray], 4),
+        truth: make(["vs_main", "fs_truth"], &[truth.clone(), truth], 1),
     };
     (pipelines, uniforms, bind_group)
 }
@@ -689,7 +731,7 @@ fn create_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
-    fragment_entry: &str,
+    [vertex_entry, fragment_entry]: [&str; 2],
     targets: &[Option<wgpu::ColorTargetState>],
     samples: u32,
 ) -> wgpu::RenderPipeline {
@@ -708,7 +750,7 @@ fn create_pipeline(
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some("vs_main"),
+            entry_point: Some(vertex_entry),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<Vertex>() as u64,
