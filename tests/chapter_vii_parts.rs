@@ -477,15 +477,16 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
     }
 }
 
-/// `true` when `got` holds the blocks of `truth`: same types, centres within 0.1 mm and the
-/// same turn (a wedge has no symmetry: its yaw is its facing).
+/// `true` when `got` holds the blocks of `truth`: same types with every corner within 0.1 mm
+/// (the same solid whatever symmetry its yaw has; a wedge has none, so its facing counts).
 fn same_blocks(got: &[Block], truth: &[Block]) -> bool {
     got.len() == truth.len()
         && truth.iter().all(|t| {
             got.iter().any(|b| {
                 b.block_type.id == t.block_type.id
-                    && b.center_mm.distance(t.center_mm) < 0.1
-                    && b.rotation().angle_between(t.rotation()) < 1e-6
+                    && t.world_vertices()
+                        .iter()
+                        .all(|p| b.world_vertices().iter().any(|q| q.distance(*p) < 0.1))
             })
         })
 }

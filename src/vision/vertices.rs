@@ -11,7 +11,7 @@
 //! Figure 5.1). An end joined to nothing is a vertex of its own (junction "end").
 
 use super::lines::FittedLine;
-use crate::drawing::LineDrawing;
+use crate::drawing::{EdgeAxis, LineDrawing};
 use crate::geom::{DVec2, UnionFind};
 
 /// Options of the vertex finder, in picture pixels.
@@ -79,8 +79,82 @@ struct Candidate {
 /// lines split at vertices on their interior, then [`LineDrawing::finalize`] computes each
 /// vertex's six-bit code (Chapter IV bit order) and junction class. Deterministic.
 pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
-    let kept = drop_junction_blobs(lines, opts);
+    let joined = join_sloped_ends(lines, opts);
+    let kept = drop_junction_blobs(&joined, opts);
     build_drawing(&kept, opts)
+}
+
+/// Longest reach of [`join_sloped_ends`], in join radii.
+const MAX_SLOPED_REACH_JOIN_RADII: f64 = 4.0;
+
+/// Joins the ends of lines in a direction other than the block axes (a trapezoidal block's
+/// sloped edges, Figure 7.1) to the block-axis line they meet. Such a line is fitted to the
+/// edge pixels no block-axis line explains, so near a junction it loses the pixels inside the
+/// other line's band, a stretch that grows as `1 / sin` of the angle between the two (a slope
+/// 30 degrees off the vertical loses about 10 px), and the block-axis line may run on over
+/// them. Each end is moved to the nearest intersection with a block-axis line within
+/// `join_radius_px / sin(angle)` (at most [`MAX_SLOPED_REACH_JOIN_RADII`] join radii) beyond
+/// it, and a block-axis line that runs on past that point, by less than the same reach, on
+/// the sloped line's side, is cut there. Block-axis lines alone pass unchanged.
+fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLine> {
+    let mut out = lines.to_vec();
+    let is_axis = |l: &FittedLine| EdgeAxis::BLOCK_AXES.contains(&l.axis);
+    for i in 0..out.len() {
+        if is_axis(&out[i]) {
+            continue;
+        }
+        for e in 0..2 {
+            let s = out[i];
+            let (end, other_end) = if e == 0 {
+                (s.from_px, s.to_px)
+            } else {
+                (s.to_px, s.from_px)
+            };
+            let outward = (end - other_end).normalize_or_zero();
+            let reach_for = |l: &FittedLine| {
+                let sin = l.direction.perp_dot(s.direction).abs().max(1e-9);
+                (opts.join_radius_px / sin).min(MAX_SLOPED_REACH_JOIN_RADII * opts.join_radius_px)
+            };
+            let best = out
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| is_axis(l))
+                .filter_map(|(j, l)| {
+                    let x = intersect(&s, l)?;
+                    let reach = reach_for(l);
+                    let beyond = (x - end).dot(outward);
+                    let (t, t0, t1) = (l.along_px(x), l.along_px(l.from_px), l.along_px(l.to_px));
+                    let on_l = t >= t0 - opts.join_radius_px && t <= t1 + opts.join_radius_px;
+                    (beyond >= -opts.join_radius_px && beyond <= reach && on_l)
+                        .then_some((x.distance(end), j, x, reach))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let Some((_, j, x, reach)) = best else {
+                continue;
+            };
+            if e == 0 {
+                out[i].from_px = x;
+            } else {
+                out[i].to_px = x;
+            }
+            // Cut the block-axis line's run over the sloped line's lost pixels.
+            let l = out[j];
+            for (k, run_end) in [l.from_px, l.to_px].into_iter().enumerate() {
+                let past = run_end.distance(x);
+                let towards_slope = (run_end - x).dot(other_end - x) > 0.0;
+                let other = if k == 0 { l.to_px } else { l.from_px };
+                let x_inside = (x - other).dot(run_end - other) > 0.0;
+                if past > 0.0 && past < reach && towards_slope && x_inside {
+                    if k == 0 {
+                        out[j].from_px = x;
+                    } else {
+                        out[j].to_px = x;
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Drops short segments that sit inside a junction of other lines: shorter than twice the join
