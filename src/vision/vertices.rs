@@ -401,4 +401,38 @@ mod tests {
             crate::drawing::ThesisClass::T
         );
     }
+
+    /// A wedge's ridge corner as vision fits it: the sloped edge, 30 degrees off the vertical,
+    /// stops 11 px short of the corner (its pixels there lie in the vertical line's band) and
+    /// the vertical line runs 11 px on over them. The sloped end is joined to the corner and
+    /// the run cut, so the corner is one vertex of three lines and no stub is left; without
+    /// the join the drawing keeps both faults.
+    #[test]
+    fn a_sloped_edge_short_of_its_corner_is_joined_and_the_overrun_cut() {
+        let c = DVec2::new(100.0, 100.0);
+        let down = DVec2::new(0.5, -0.866);
+        let mut slope = seg(0, c + down * 11.0, c + down * 150.0);
+        slope.axis = EdgeAxis::TRAPEZOID_SLOPES[1];
+        let lines = [
+            seg(0, c + DVec2::Y * 110.0, c - DVec2::Y * 11.0),
+            seg(1, c, c + DVec2::new(-0.866, 0.5) * 100.0),
+            slope,
+        ];
+        let opts = VertexOptions::default();
+        let far = c + down * 150.0;
+        // The corner's lines, and whether one of them is the sloped edge.
+        let corner_of = |d: &LineDrawing| {
+            let k = d.points.iter().position(|p| p.distance(c) < 0.5)?;
+            let at: Vec<&[usize; 2]> = d.lines.iter().filter(|l| l.contains(&k)).collect();
+            let sloped = at.iter().any(|l| l.iter().any(|&m| d.points[m].distance(far) < 1e-6));
+            Some((at.len(), sloped))
+        };
+        let d = find_vertices(&lines, &opts);
+        assert_eq!(corner_of(&d), Some((3, true)), "{d:?}");
+        assert!(d.points.iter().all(|p| p.y > c.y - 1.0 || p.distance(far) < 1e-6));
+        let unjoined = build_drawing(&drop_junction_blobs(&lines, &opts), &opts);
+        assert_eq!(corner_of(&unjoined), Some((3, false)), "{unjoined:?}");
+        // Block-axis lines alone pass unchanged.
+        assert_eq!(join_sloped_ends(&lines[..2], &opts), lines[..2].to_vec());
+    }
 }
