@@ -94,8 +94,9 @@ const MAX_SLOPED_REACH_JOIN_RADII: f64 = 4.0;
 /// 30 degrees off the vertical loses about 10 px), and the block-axis line may run on over
 /// them. Each end is moved to the nearest intersection with a block-axis line within
 /// `join_radius_px / sin(angle)` (at most [`MAX_SLOPED_REACH_JOIN_RADII`] join radii) beyond
-/// it, and a block-axis line that runs on past that point, by less than the same reach, on
-/// the sloped line's side, is cut there. Block-axis lines alone pass unchanged.
+/// it, and every block-axis line through that corner that runs on past it, by less than the
+/// same reach, on the sloped line's side, is cut there. Block-axis lines alone pass
+/// unchanged.
 fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLine> {
     let mut out = lines.to_vec();
     let is_axis = |l: &FittedLine| EdgeAxis::BLOCK_AXES.contains(&l.axis);
@@ -129,7 +130,7 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
                         .then_some((x.distance(end), j, x, reach))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let Some((_, j, x, reach)) = best else {
+            let Some((_, _, x, _)) = best else {
                 continue;
             };
             if e == 0 {
@@ -137,18 +138,32 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
             } else {
                 out[i].to_px = x;
             }
-            // Cut the block-axis line's run over the sloped line's lost pixels.
-            let l = out[j];
-            for (k, run_end) in [l.from_px, l.to_px].into_iter().enumerate() {
-                let past = run_end.distance(x);
-                let towards_slope = (run_end - x).dot(other_end - x) > 0.0;
-                let other = if k == 0 { l.to_px } else { l.from_px };
-                let x_inside = (x - other).dot(run_end - other) > 0.0;
-                if past > 0.0 && past < reach && towards_slope && x_inside {
-                    if k == 0 {
-                        out[j].from_px = x;
-                    } else {
-                        out[j].to_px = x;
+            // Cut the block-axis lines meeting there that run on over the sloped line's lost
+            // pixels.
+            for j in 0..out.len() {
+                let l = out[j];
+                if !is_axis(&l) {
+                    continue;
+                }
+                let Some(xj) = intersect(&s, &l).filter(|p| p.distance(x) <= opts.merge_radius_px)
+                else {
+                    continue;
+                };
+                let reach = reach_for(&l);
+                for (k, run_end) in [l.from_px, l.to_px].into_iter().enumerate() {
+                    let other = if k == 0 { l.to_px } else { l.from_px };
+                    let past = run_end.distance(xj);
+                    let towards_slope = (run_end - xj).dot(other_end - xj) > 0.0;
+                    // The line runs on through the corner: the rest of it, beyond the corner,
+                    // is longer than the run to cut (and than a join radius).
+                    let rest = (xj - other).dot((run_end - other).normalize_or_zero());
+                    let through = rest > past.max(opts.join_radius_px);
+                    if past > 0.0 && past < reach && towards_slope && through {
+                        if k == 0 {
+                            out[j].from_px = xj;
+                        } else {
+                            out[j].to_px = xj;
+                        }
                     }
                 }
             }
