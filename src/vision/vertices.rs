@@ -126,8 +126,12 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
                     let beyond = (x - end).dot(outward);
                     let (t, t0, t1) = (l.along_px(x), l.along_px(l.from_px), l.along_px(l.to_px));
                     let on_l = t >= t0 - opts.join_radius_px && t <= t1 + opts.join_radius_px;
-                    (beyond >= -opts.join_radius_px && beyond <= reach && on_l)
-                        .then_some((x.distance(end), j, x, reach))
+                    (beyond >= -opts.join_radius_px && beyond <= reach && on_l).then_some((
+                        x.distance(end),
+                        j,
+                        x,
+                        reach,
+                    ))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             let Some((_, _, x, _)) = best else {
@@ -439,12 +443,17 @@ mod tests {
         let corner_of = |d: &LineDrawing| {
             let k = d.points.iter().position(|p| p.distance(c) < 0.5)?;
             let at: Vec<&[usize; 2]> = d.lines.iter().filter(|l| l.contains(&k)).collect();
-            let sloped = at.iter().any(|l| l.iter().any(|&m| d.points[m].distance(far) < 1e-6));
+            let sloped = at
+                .iter()
+                .any(|l| l.iter().any(|&m| d.points[m].distance(far) < 1e-6));
             Some((at.len(), sloped))
         };
         let d = find_vertices(&lines, &opts);
         assert_eq!(corner_of(&d), Some((3, true)), "{d:?}");
-        assert!(d.points.iter().all(|p| p.y > c.y - 1.0 || p.distance(far) < 1e-6));
+        assert!(d
+            .points
+            .iter()
+            .all(|p| p.y > c.y - 1.0 || p.distance(far) < 1e-6));
         let unjoined = build_drawing(&drop_junction_blobs(&lines, &opts), &opts);
         assert_eq!(corner_of(&unjoined), Some((3, false)), "{unjoined:?}");
         // Block-axis lines alone pass unchanged.
