@@ -118,23 +118,18 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
             };
             let best = out
                 .iter()
-                .enumerate()
-                .filter(|(_, l)| is_axis(l))
-                .filter_map(|(j, l)| {
+                .filter(|l| is_axis(l))
+                .filter_map(|l| {
                     let x = intersect(&s, l)?;
                     let reach = reach_for(l);
                     let beyond = (x - end).dot(outward);
                     let (t, t0, t1) = (l.along_px(x), l.along_px(l.from_px), l.along_px(l.to_px));
                     let on_l = t >= t0 - opts.join_radius_px && t <= t1 + opts.join_radius_px;
-                    (beyond >= -opts.join_radius_px && beyond <= reach && on_l).then_some((
-                        x.distance(end),
-                        j,
-                        x,
-                        reach,
-                    ))
+                    let near = beyond >= -opts.join_radius_px && beyond <= reach && on_l;
+                    near.then_some((x.distance(end), x))
                 })
-                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let Some((_, _, x, _)) = best else {
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let Some((_, x)) = best else {
                 continue;
             };
             if e == 0 {
@@ -144,18 +139,14 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
             }
             // Cut the block-axis lines meeting there that run on over the sloped line's lost
             // pixels.
-            for j in 0..out.len() {
-                let l = out[j];
-                if !is_axis(&l) {
-                    continue;
-                }
-                let Some(xj) = intersect(&s, &l).filter(|p| p.distance(x) <= opts.merge_radius_px)
+            for l in out.iter_mut().filter(|l| is_axis(l)) {
+                let Some(xj) = intersect(&s, l).filter(|p| p.distance(x) <= opts.merge_radius_px)
                 else {
                     continue;
                 };
-                let reach = reach_for(&l);
-                for (k, run_end) in [l.from_px, l.to_px].into_iter().enumerate() {
-                    let other = if k == 0 { l.to_px } else { l.from_px };
+                let reach = reach_for(l);
+                let (from, to) = (l.from_px, l.to_px);
+                for (run_end, other) in [(from, to), (to, from)] {
                     let past = run_end.distance(xj);
                     let towards_slope = (run_end - xj).dot(other_end - xj) > 0.0;
                     // The line runs on through the corner: the rest of it, beyond the corner,
@@ -163,10 +154,10 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
                     let rest = (xj - other).dot((run_end - other).normalize_or_zero());
                     let through = rest > past.max(opts.join_radius_px);
                     if past > 0.0 && past < reach && towards_slope && through {
-                        if k == 0 {
-                            out[j].from_px = xj;
+                        if run_end == from {
+                            l.from_px = xj;
                         } else {
-                            out[j].to_px = xj;
+                            l.to_px = xj;
                         }
                     }
                 }
