@@ -6,7 +6,7 @@
 //! its whole footprint, so no upper layer is larger than the layer below it. The two failure
 //! families break exactly one of the Chapter VII constraints and are still stable.
 
-use crate::geom::DVec3;
+use crate::geom::{DQuat, DVec3};
 use crate::scene::{Block, Expect, Scene};
 use rand::seq::IndexedRandom;
 use rand::Rng;
@@ -52,7 +52,7 @@ pub enum Family {
     /// Failure case: at least one block turned by a yaw that is not a multiple of 90 degrees.
     NonUniformYaw,
     /// Chapter VII's trapezoidal block: a wedge on the floor or on a Baustein 30, with cubes
-    /// on its flat top or beside it, every wedge facing +x (one direction).
+    /// on its flat top or beside it, the wedge facing one of the four ways (one direction).
     Wedge,
     /// Failure case (Chapter VII's "circles"): round parts on the floor, on or under cubes.
     Round,
@@ -544,33 +544,50 @@ fn non_uniform_yaw(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
     }
 }
 
-/// A wedge facing +x (yaw 0, the one direction) on the floor or on a Baustein 30 of its
-/// footprint; a wedge on the floor may carry a b15 on its flat top; cubes may stand beside it on
-/// the floor, in front of its -x end or behind it along z. (A b15 on a wedge on a b30 is left
-/// out: measured, rapier's hull contact lets that three-high tower drift 0.7 mm.)
+/// A wedge facing one of the four ways (yaw 0, 90, 180 or 270: blocks in one direction,
+/// Chapter VII) on the floor or on a Baustein 30 of its footprint; a wedge on the floor may
+/// carry a b15 on its flat top; cubes may stand beside it on the floor, in front of its
+/// vertical end or beside it across the slope, the whole group turned with the wedge. (A b15
+/// on a wedge on a b30 is left out: measured, rapier's hull contact lets that three-high tower
+/// drift 0.7 mm.)
 fn wedge(rng: &mut ChaCha8Rng) -> Option<Vec<Block>> {
     let (cx, cz) = (
         rng.random_range(-2..=2) as f64 * GRID_MM,
         rng.random_range(-2..=2) as f64 * GRID_MM,
     );
-    let mut blocks = Vec::new();
+    // Block positions in the wedge's own frame (its vertical end towards -x), turned last.
+    let mut local: Vec<(&str, DVec3)> = Vec::new();
     let on_b30 = rng.random_bool(0.5);
     let mut base = 0.0;
     if on_b30 {
-        blocks.push(Block::new("b30", DVec3::new(cx, 7.5, cz), 0.0));
+        local.push(("b30", DVec3::new(0.0, 7.5, 0.0)));
         base = 15.0;
     }
-    blocks.push(Block::new("w30", DVec3::new(cx, base + 7.5, cz), 0.0));
+    local.push(("w30", DVec3::new(0.0, base + 7.5, 0.0)));
     if !on_b30 && rng.random_bool(0.5) {
-        blocks.push(Block::new("b15", DVec3::new(cx - 7.5, 22.5, cz), 0.0));
+        local.push(("b15", DVec3::new(-7.5, 22.5, 0.0)));
     }
     if rng.random_bool(0.5) {
-        blocks.push(Block::new("b15", DVec3::new(cx - 22.5, 7.5, cz), 0.0));
+        local.push(("b15", DVec3::new(-22.5, 7.5, 0.0)));
     }
     if rng.random_bool(0.4) {
         let id = pick(rng, &["b15", "b30"]);
-        blocks.push(Block::new(id, DVec3::new(cx, 7.5, cz - 15.0), 0.0));
+        local.push((id, DVec3::new(0.0, 7.5, -15.0)));
     }
+    let yaw = rng.random_range(0..4) as f64 * 90.0;
+    let turn = DQuat::from_rotation_y(yaw.to_radians());
+    let blocks = local
+        .into_iter()
+        .map(|(id, p)| {
+            // A Baustein 30 looks the same turned half way, a cube any quarter turn.
+            let part_yaw = match id {
+                "w30" => yaw,
+                "b30" => yaw % 180.0,
+                _ => 0.0,
+            };
+            Block::new(id, DVec3::new(cx, 0.0, cz) + turn * p, part_yaw)
+        })
+        .collect();
     Some(blocks)
 }
 

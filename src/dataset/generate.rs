@@ -158,12 +158,15 @@ mod tests {
         }
     }
 
-    /// The Chapter VII families: every wedge scene holds a wedge, all facing one direction
-    /// (yaw 0), and over 16 stable draws wedges stand both on a b30 and under a cube; every
-    /// round scene holds a round part. Neither is in the default cycle.
+    /// The Chapter VII families: every wedge scene holds a wedge facing one of the four ways
+    /// (a quarter turn), and over 16 stable draws wedges face at least three ways and stand
+    /// both on a b30 and under a cube; every round scene holds a round part. Neither is in the
+    /// default cycle.
     #[test]
     fn wedge_and_round_families_draw_their_parts_stable() {
+        use std::f64::consts::FRAC_PI_2;
         let (mut on_b30, mut under_cube) = (false, false);
+        let mut facings = [false; 4];
         for index in 0..16 {
             for family in Family::CHAPTER_VII {
                 assert!(!Family::ALL.contains(&family));
@@ -188,7 +191,11 @@ mod tests {
                         .iter()
                         .find(|b| b.block_type.id == "w30")
                         .unwrap();
-                    assert!(wedge.rotation().angle_between(glam::DQuat::IDENTITY) < 1e-9);
+                    let quarter = (0..4).find(|&k| {
+                        let turn = glam::DQuat::from_rotation_y(k as f64 * FRAC_PI_2);
+                        wedge.rotation().angle_between(turn) < 1e-9
+                    });
+                    facings[quarter.expect("the wedge is turned by a quarter turn")] = true;
                     on_b30 |= ids.contains(&"b30") && wedge.center_mm.y > 20.0;
                     under_cube |= d
                         .scene
@@ -199,6 +206,7 @@ mod tests {
             }
         }
         assert!(on_b30 && under_cube);
+        assert!(facings.iter().filter(|&&f| f).count() >= 3, "{facings:?}");
     }
 
     #[test]

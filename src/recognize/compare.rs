@@ -411,8 +411,12 @@ pub(super) fn choose_hypothesis(
 
 /// The ways a block is two catalog blocks flush against each other (one b30 is two b15 end to
 /// end, one b15 is two b7_5 stacked), read from the catalog sizes: a type whose size is this
-/// type's with one axis halved (its x and z possibly swapped, i.e. turned 90 degrees).
+/// type's with one axis halved (its x and z possibly swapped, i.e. turned 90 degrees). Only a
+/// cuboid splits so: a trapezoidal block (Figure 7.1) has none.
 pub fn catalog_splits(b: &Block) -> Vec<[Block; 2]> {
+    if b.block_type.cuboid_half_extents_mm().is_none() {
+        return Vec::new();
+    }
     let size = b.block_type.size_mm();
     let yaw = yaw_deg(b);
     let rot = b.rotation();

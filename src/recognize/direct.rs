@@ -195,7 +195,9 @@ fn is_ghost(
 }
 
 /// Candidates `indices` of `pool` lowest layer first ("starting from the lowest level to the
-/// upper levels", Chapter V), within a layer best supported first (views with an exact fit,
+/// upper levels", Chapter V), within a layer the trapezoidal blocks first (a sloped face is
+/// seen only on them, while the square top of a wedge's flat half also fits a cube), then the
+/// best supported (views with an exact fit,
 /// then views proposing it), then the smaller block and the more proposals; each taken unless
 /// it overlaps one already taken or does not rest on them. A candidate `ghost` flags (given
 /// the blocks taken so far) waits; once the rest is taken it joins unless `ghost`, asked
@@ -210,6 +212,7 @@ fn take_lowest_first(
         let size = c.block.block_type.size_mm();
         (
             (c.block.bottom_mm() / SAME_PLACE_TOL_MM).round() as i64,
+            c.block.block_type.cuboid_half_extents_mm().is_some(),
             Reverse(c.fit_views.len()),
             Reverse(c.views.len()),
             (size.x * size.y * size.z).round() as i64,
@@ -296,7 +299,7 @@ mod tests {
         let pool = super::super::propose_and_pool(
             &views,
             &opts,
-            Some(&silhouettes),
+            (Some(&silhouettes), false),
             &mut Default::default(),
         );
         let candidates: Vec<usize> = well_supported(&pool, views.len())

@@ -8,7 +8,9 @@
 //!    [`drop_below_mm`]).
 //! 3. [`catalog_candidates`]: the catalog blocks (yaw 0 or 90) those measurements fit, at every
 //!    layer height (sums of catalog heights, bottom layer at y = 0); [`classify_layers`] and
-//!    [`touching_pairs`] for the answer.
+//!    [`touching_pairs`] for the answer. When some view shows a sloped face (Chapter VII,
+//!    Figure 7.1: the gradient tells a trapezoidal block from a solid one), also the
+//!    trapezoidal blocks its gradient turns and its corners place ([`trapezoid_proposals`]).
 //! 4. [`pool_candidates`]: the views compared (Chapter V's three rules), a block hidden in one
 //!    view recovered from another; any subset of the four views. Then the direct path of
 //!    Figure 5.3 ([`direct_hypothesis`]: well-supported candidates, lowest level first), and
@@ -56,7 +58,10 @@ pub use parallelogram::{
     ParallelogramSearch, TopCorner,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
-pub use trapezoid::{face_gradients, line_world_direction, sloped_faces, FaceGradient};
+pub use trapezoid::{
+    face_gradients, facing_yaw_deg, line_world_direction, sloped_faces, sloped_lines,
+    trapezoid_proposals, trapezoidal_blocks, FaceGradient,
+};
 pub use verify::{
     blocks_drawn_in_excess, check_hypothesis, compare_drawings, distance_to_segment_px,
     draw_hypothesis, ViewCheck,
@@ -126,13 +131,12 @@ pub enum Decline {
         /// How many lines.
         count: usize,
     },
-    /// A sloped face: a trapezoidal block, told from the solid blocks by its gradient.
-    #[error("view {view}: {count} face planes have the gradient of a sloped face: a trapezoidal block, distinguished from solid blocks by the gradient constraints (Chapter VII, Figure 7.1); its reconstruction is not implemented")]
+    /// A sloped face (a trapezoidal block, told from the solid blocks by its gradient) where
+    /// no catalog trapezoidal block placed from the sloped faces explains the views.
+    #[error("view {view} not explained: the drawings show a sloped face, a trapezoidal block distinguished from solid blocks by the gradient constraints (Chapter VII, Figure 7.1), but no trapezoidal block of the catalog placed from its sloped faces explains them")]
     TrapezoidalBlock {
-        /// The view's name.
+        /// The first view not explained.
         view: String,
-        /// How many sloped face planes (one per pair of lines at a junction).
-        count: usize,
     },
     /// Lines within 2 degrees of horizontal (Chapter IV's six directions do not cover them).
     #[error("view {view}: {count} lines fall in no six-bit direction (Chapter IV); blocks are not in one direction (Chapter VII)")]
@@ -264,41 +268,51 @@ fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
 }
 
 /// Chapter VII's constraints on the observed drawings, before any search: no curved edges
-/// (round parts), no sloped face (a trapezoidal block, Figure 7.1), every line in a six-bit
-/// direction and along a block axis.
-fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Option<Decline> {
+/// (round parts), every line in a six-bit direction and along a block axis, except, once some
+/// view shows a sloped face (a trapezoidal block, Figure 7.1), the lines along its slopes.
+/// `Ok(true)` when a sloped face was seen: trapezoidal blocks join the candidates.
+fn check_directions(views: &[ObservedView], opts: &RecognizeOptions) -> Result<bool, Decline> {
     for v in views {
-        let view = v.camera.view.name().to_string();
         let curved = curved_chain_lines(&v.drawing);
         if !curved.is_empty() {
+            let view = v.camera.view.name().to_string();
             let count = curved.len();
-            return Some(Decline::RoundParts { view, count });
-        }
-        let sloped = sloped_faces(&v.drawing, &v.camera, opts.axis_tol_deg);
-        if !sloped.is_empty() {
-            let count = sloped.len();
-            return Some(Decline::TrapezoidalBlock { view, count });
-        }
-        if !v.drawing.unclassified_lines.is_empty() {
-            let count = v.drawing.unclassified_lines.len();
-            return Some(Decline::UnclassifiedLines { view, count });
-        }
-        let off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
-        if !off.is_empty() {
-            let count = off.len();
-            return Some(Decline::NotOneDirection { view, count });
+            return Err(Decline::RoundParts { view, count });
         }
     }
-    None
+    let tol = opts.axis_tol_deg;
+    let trapezoids = views
+        .iter()
+        .any(|v| !sloped_faces(&v.drawing, &v.camera, tol).is_empty());
+    for v in views {
+        let view = v.camera.view.name().to_string();
+        let slopes = if trapezoids {
+            sloped_lines(&v.drawing, &v.camera, tol)
+        } else {
+            Vec::new()
+        };
+        let unclassified = v.drawing.unclassified_lines.iter();
+        let count = unclassified.filter(|l| !slopes.contains(l)).count();
+        if count > 0 {
+            return Err(Decline::UnclassifiedLines { view, count });
+        }
+        let off = lines_off_the_axes(&v.drawing, &v.camera, tol);
+        let count = off.iter().filter(|l| !slopes.contains(l)).count();
+        if count > 0 {
+            return Err(Decline::NotOneDirection { view, count });
+        }
+    }
+    Ok(trapezoids)
 }
 
 /// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly,
 /// with their top corner where `corner_ok` accepts it, when `fit_only`) and evidence counts.
+/// With `trapezoids`, also the trapezoidal blocks its sloped faces propose (Figure 7.1).
 fn propose(
     view: &ObservedView,
     levels: &[f64],
     opts: &RecognizeOptions,
-    fit_only: bool,
+    (fit_only, trapezoids): (bool, bool),
     corner_ok: &dyn Fn(crate::geom::DVec3) -> bool,
 ) -> (Vec<Proposal>, ViewEvidence) {
     let selected = select_vertices(&view.drawing);
@@ -328,6 +342,12 @@ fn propose(
             out.extend(proposals.into_iter().filter(|c| c.closed_fit || !fit_only));
         }
     }
+    if trapezoids {
+        let (drawing, camera, tol) = (&view.drawing, &view.camera, &opts.matching);
+        let sloped =
+            trapezoid_proposals(drawing, camera, levels, tol, opts.axis_tol_deg, corner_ok);
+        out.extend(sloped.into_iter().filter(|c| c.closed_fit || !fit_only));
+    }
     ev.proposals = out.len();
     (out, ev)
 }
@@ -356,11 +376,11 @@ pub const SAME_PLACE_TOL_MM: f64 = 0.5;
 /// evidence counts recorded in `evidence`. For the direct path (`direct_within` given: only
 /// exact fits), a level is read only where the measured top corner is seen inside every view's
 /// silhouette, as the direct path requires of every corner of the blocks it takes
-/// ([`direct_hypothesis`]).
+/// ([`direct_hypothesis`]). With `trapezoids`, the sloped faces' trapezoidal blocks too.
 fn propose_and_pool(
     views: &[ObservedView],
     opts: &RecognizeOptions,
-    direct_within: Option<&Silhouettes>,
+    (direct_within, trapezoids): (Option<&Silhouettes>, bool),
     evidence: &mut Evidence,
 ) -> Vec<PooledCandidate> {
     let levels = level_heights_mm(opts.max_height_mm);
@@ -369,7 +389,7 @@ fn propose_and_pool(
     let corner_ok = |q: crate::geom::DVec3| direct_within.is_none_or(|s| s.hold(q, opts.tol_px));
     let mut per_view = Vec::new();
     for v in views {
-        let (proposals, ev) = propose(v, &levels, opts, fit_only, &corner_ok);
+        let (proposals, ev) = propose(v, &levels, opts, (fit_only, trapezoids), &corner_ok);
         per_view.push(proposals);
         evidence.views.push(ev);
     }
@@ -385,11 +405,12 @@ fn propose_and_pool(
 fn find_hypothesis(
     views: &[ObservedView],
     opts: &RecognizeOptions,
-    limits: &SearchLimits,
+    (limits, trapezoids): (&SearchLimits, bool),
     evidence: &mut Evidence,
 ) -> Hypothesis {
     let silhouettes = Silhouettes::new(views);
-    let exact = propose_and_pool(views, opts, Some(&silhouettes), evidence);
+    let direct_within = (Some(&silhouettes), trapezoids);
+    let exact = propose_and_pool(views, opts, direct_within, evidence);
     let blocks = direct_hypothesis_within(&exact, views, &silhouettes, limits.tol_px);
     let direct = Hypothesis::new(blocks, views, limits.tol_px);
     if direct.mismatch() == 0 {
@@ -399,7 +420,7 @@ fn find_hypothesis(
     if pruned.mismatch() == 0 {
         return pruned;
     }
-    let pool = propose_and_pool(views, opts, None, evidence);
+    let pool = propose_and_pool(views, opts, (None, trapezoids), evidence);
     let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
     if continued.mismatch() == 0 {
         return continued;
@@ -460,9 +481,10 @@ pub fn recognize(
     views.iter().try_for_each(check_drawing)?;
     let views = &normalize_views(views)[..];
     let mut evidence = Evidence::default();
-    if let Some(d) = check_directions(views, opts) {
-        return Ok(Recognition::declined(d, evidence));
-    }
+    let trapezoids = match check_directions(views, opts) {
+        Ok(t) => t,
+        Err(d) => return Ok(Recognition::declined(d, evidence)),
+    };
     let limits = SearchLimits {
         tol_px: opts.tol_px,
         shortlist: opts.shortlist,
@@ -470,7 +492,7 @@ pub fn recognize(
         max_blocks: opts.max_blocks,
         repair_rounds: opts.repair_rounds,
     };
-    let h = find_hypothesis(views, opts, &limits, &mut evidence);
+    let h = find_hypothesis(views, opts, (&limits, trapezoids), &mut evidence);
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;
@@ -479,6 +501,16 @@ pub fn recognize(
     }
     evidence.hypothesis = h.blocks.clone();
     if let Some(d) = final_checks(&h, views, opts) {
+        let placed = h
+            .blocks
+            .iter()
+            .any(|b| b.block_type.cuboid_half_extents_mm().is_none());
+        let d = match d {
+            Decline::Unexplained { view, .. } if trapezoids && !placed => {
+                Decline::TrapezoidalBlock { view }
+            }
+            d => d,
+        };
         return Ok(Recognition::declined(d, evidence));
     }
     let blocks = h.blocks;
@@ -594,5 +626,69 @@ mod tests {
         .unwrap();
         assert_eq!(r.status, ReconStatus::Unsupported);
         assert!(r.reason.unwrap().contains("not in one direction"));
+    }
+
+    /// `true` when `got` holds the blocks of `truth`: same types, centres within 0.05 mm and
+    /// the same orientation.
+    fn same_blocks(got: &[Block], truth: &[Block]) -> bool {
+        got.len() == truth.len()
+            && truth.iter().all(|t| {
+                got.iter().any(|b| {
+                    b.block_type.id == t.block_type.id
+                        && b.center_mm.distance(t.center_mm) < 0.05
+                        && b.orientation == t.orientation
+                })
+            })
+    }
+
+    /// Chapter VII, Figure 7.1: a trapezoidal block facing each of the four ways, alone, on a
+    /// Baustein 30 and carrying a cube on its flat top, is reconstructed with its turn from the
+    /// four views.
+    #[test]
+    fn wedges_facing_each_way_are_reconstructed_with_their_turn() {
+        for yaw in [0.0, 90.0, 180.0, 270.0] {
+            let wedge = |y: f64| Block::new("w30", DVec3::new(0.0, y, 0.0), yaw);
+            let flat_top = wedge(0.0).world_point(DVec3::new(-7.5, 22.5, 0.0));
+            let b30_yaw = if yaw % 180.0 == 0.0 { 0.0 } else { 90.0 };
+            let scenes = [
+                vec![wedge(7.5)],
+                vec![
+                    Block::new("b30", DVec3::new(0.0, 7.5, 0.0), b30_yaw),
+                    wedge(22.5),
+                ],
+                vec![wedge(7.5), Block::new("b15", flat_top, 0.0)],
+            ];
+            for truth in scenes {
+                let views = views_of(&truth, &CornerView::ALL);
+                let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+                assert_eq!(
+                    r.status,
+                    ReconStatus::Ok,
+                    "yaw {yaw} {truth:?}: {:?}",
+                    r.reason
+                );
+                assert!(same_blocks(&r.blocks, &truth), "yaw {yaw}: {:?}", r.blocks);
+            }
+        }
+    }
+
+    /// The check (step 6) refuses a wedge turned the wrong way: the true wedge's drawing explains
+    /// every view, the same box facing any other way leaves some view unexplained.
+    #[test]
+    fn a_wedge_turned_the_wrong_way_is_refused_by_the_check() {
+        let truth = [Block::new("w30", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let views = views_of(&truth, &CornerView::ALL);
+        let explained = |b: &[Block]| {
+            check_hypothesis(b, &views, 2.0)
+                .iter()
+                .all(ViewCheck::is_explained)
+        };
+        assert!(explained(&truth));
+        for yaw in [90.0, 180.0, 270.0] {
+            let turned = [Block::new("w30", truth[0].center_mm, yaw)];
+            assert!(!explained(&turned), "yaw {yaw} explains the views");
+        }
+        // Nor does the box the wedge fills: a Baustein 30 there.
+        assert!(!explained(&[Block::new("b30", truth[0].center_mm, 0.0)]));
     }
 }

@@ -11,7 +11,7 @@
 //! Figure 5.1). An end joined to nothing is a vertex of its own (junction "end").
 
 use super::lines::FittedLine;
-use crate::drawing::LineDrawing;
+use crate::drawing::{EdgeAxis, LineDrawing};
 use crate::geom::{DVec2, UnionFind};
 
 /// Options of the vertex finder, in picture pixels.
@@ -79,8 +79,92 @@ struct Candidate {
 /// lines split at vertices on their interior, then [`LineDrawing::finalize`] computes each
 /// vertex's six-bit code (Chapter IV bit order) and junction class. Deterministic.
 pub fn find_vertices(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
-    let kept = drop_junction_blobs(lines, opts);
+    let joined = join_sloped_ends(lines, opts);
+    let kept = drop_junction_blobs(&joined, opts);
     build_drawing(&kept, opts)
+}
+
+/// Longest reach of [`join_sloped_ends`], in join radii.
+const MAX_SLOPED_REACH_JOIN_RADII: f64 = 4.0;
+
+/// Joins the ends of lines in a direction other than the block axes (a trapezoidal block's
+/// sloped edges, Figure 7.1) to the block-axis line they meet. Such a line is fitted to the
+/// edge pixels no block-axis line explains, so near a junction it loses the pixels inside the
+/// other line's band, a stretch that grows as `1 / sin` of the angle between the two (a slope
+/// 30 degrees off the vertical loses about 10 px), and the block-axis line may run on over
+/// them. Each end is moved to the nearest intersection with a block-axis line within
+/// `join_radius_px / sin(angle)` (at most [`MAX_SLOPED_REACH_JOIN_RADII`] join radii) beyond
+/// it, and every block-axis line through that corner that runs on past it, by less than the
+/// same reach, on the sloped line's side, is cut there. Block-axis lines alone pass
+/// unchanged.
+fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLine> {
+    let mut out = lines.to_vec();
+    let is_axis = |l: &FittedLine| EdgeAxis::BLOCK_AXES.contains(&l.axis);
+    for i in 0..out.len() {
+        if is_axis(&out[i]) {
+            continue;
+        }
+        for e in 0..2 {
+            let s = out[i];
+            let (end, other_end) = if e == 0 {
+                (s.from_px, s.to_px)
+            } else {
+                (s.to_px, s.from_px)
+            };
+            let outward = (end - other_end).normalize_or_zero();
+            let reach_for = |l: &FittedLine| {
+                let sin = l.direction.perp_dot(s.direction).abs().max(1e-9);
+                (opts.join_radius_px / sin).min(MAX_SLOPED_REACH_JOIN_RADII * opts.join_radius_px)
+            };
+            let best = out
+                .iter()
+                .filter(|l| is_axis(l))
+                .filter_map(|l| {
+                    let x = intersect(&s, l)?;
+                    let reach = reach_for(l);
+                    let beyond = (x - end).dot(outward);
+                    let (t, t0, t1) = (l.along_px(x), l.along_px(l.from_px), l.along_px(l.to_px));
+                    let on_l = t >= t0 - opts.join_radius_px && t <= t1 + opts.join_radius_px;
+                    let near = beyond >= -opts.join_radius_px && beyond <= reach && on_l;
+                    near.then_some((x.distance(end), x))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let Some((_, x)) = best else {
+                continue;
+            };
+            if e == 0 {
+                out[i].from_px = x;
+            } else {
+                out[i].to_px = x;
+            }
+            // Cut the block-axis lines meeting there that run on over the sloped line's lost
+            // pixels.
+            for l in out.iter_mut().filter(|l| is_axis(l)) {
+                let Some(xj) = intersect(&s, l).filter(|p| p.distance(x) <= opts.merge_radius_px)
+                else {
+                    continue;
+                };
+                let reach = reach_for(l);
+                let (from, to) = (l.from_px, l.to_px);
+                for (run_end, other) in [(from, to), (to, from)] {
+                    let past = run_end.distance(xj);
+                    let towards_slope = (run_end - xj).dot(other_end - xj) > 0.0;
+                    // The line runs on through the corner: the rest of it, beyond the corner,
+                    // is longer than the run to cut (and than a join radius).
+                    let rest = (xj - other).dot((run_end - other).normalize_or_zero());
+                    let through = rest > past.max(opts.join_radius_px);
+                    if past > 0.0 && past < reach && towards_slope && through {
+                        if run_end == from {
+                            l.from_px = xj;
+                        } else {
+                            l.to_px = xj;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Drops short segments that sit inside a junction of other lines: shorter than twice the join
@@ -326,5 +410,44 @@ mod tests {
             d.junctions[t].thesis_class(),
             crate::drawing::ThesisClass::T
         );
+    }
+
+    /// A wedge's ridge corner as vision fits it: the sloped edge, 30 degrees off the vertical,
+    /// stops 11 px short of the corner (its pixels there lie in the vertical line's band) and
+    /// the vertical line runs 11 px on over them. The sloped end is joined to the corner and
+    /// the run cut, so the corner is one vertex of three lines and no stub is left; without
+    /// the join the drawing keeps both faults.
+    #[test]
+    fn a_sloped_edge_short_of_its_corner_is_joined_and_the_overrun_cut() {
+        let c = DVec2::new(100.0, 100.0);
+        let down = DVec2::new(0.5, -0.866);
+        let mut slope = seg(0, c + down * 11.0, c + down * 150.0);
+        slope.axis = EdgeAxis::TRAPEZOID_SLOPES[1];
+        let lines = [
+            seg(0, c + DVec2::Y * 110.0, c - DVec2::Y * 11.0),
+            seg(1, c, c + DVec2::new(-0.866, 0.5) * 100.0),
+            slope,
+        ];
+        let opts = VertexOptions::default();
+        let far = c + down * 150.0;
+        // The corner's lines, and whether one of them is the sloped edge.
+        let corner_of = |d: &LineDrawing| {
+            let k = d.points.iter().position(|p| p.distance(c) < 0.5)?;
+            let at: Vec<&[usize; 2]> = d.lines.iter().filter(|l| l.contains(&k)).collect();
+            let sloped = at
+                .iter()
+                .any(|l| l.iter().any(|&m| d.points[m].distance(far) < 1e-6));
+            Some((at.len(), sloped))
+        };
+        let d = find_vertices(&lines, &opts);
+        assert_eq!(corner_of(&d), Some((3, true)), "{d:?}");
+        assert!(d
+            .points
+            .iter()
+            .all(|p| p.y > c.y - 1.0 || p.distance(far) < 1e-6));
+        let unjoined = build_drawing(&drop_junction_blobs(&lines, &opts), &opts);
+        assert_eq!(corner_of(&unjoined), Some((3, false)), "{unjoined:?}");
+        // Block-axis lines alone pass unchanged.
+        assert_eq!(join_sloped_ends(&lines[..2], &opts), lines[..2].to_vec());
     }
 }
