@@ -61,8 +61,8 @@ fn vs_photo(v: VertexIn) -> VertexOut {
 // by a per-pixel angle so that too few taps give fine noise (which the sensor's blur
 // averages) instead of bands. The spiral is walked by turning a unit vector by the golden
 // angle at each tap, so only the first tap needs trigonometry.
-const SEARCH_TAPS: i32 = 8;
-const FILTER_TAPS: i32 = 8;
+const SEARCH_TAPS: i32 = 12;
+const FILTER_TAPS: i32 = 12;
 // cos and sin of the golden angle, 2.39996323 radians.
 const GOLDEN_TURN: vec2<f32> = vec2<f32>(-0.73736888, 0.67549029);
 

@@ -16,7 +16,7 @@ use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, root, Tolerance};
 
 /// Photo goldens: lavapipe renders them bit-identically run to run on the blessing machine
-/// (golden/README.md); the allowance is for another Mesa/LLVM, whose shadow filter (8 + 8 taps
+/// (golden/README.md); the allowance is for another Mesa/LLVM, whose shadow filter (12 + 12 taps
 /// on a spiral turned by one angle per pixel) and f32 sensor arithmetic may round a level
 /// differently here and there: at most 0.5% of pixels, by at most 12 levels.
 const PHOTO_TOLERANCE: Tolerance = Tolerance {
