@@ -59,13 +59,16 @@ fn vs_photo(v: VertexIn) -> VertexOut {
 
 // Taps of the soft-shadow filters: a Vogel (golden-angle) spiral over the unit disk, turned
 // by a per-pixel angle so that too few taps give fine noise (which the sensor's blur
-// averages) instead of bands.
-const TAPS: i32 = 24;
+// averages) instead of bands. The spiral is walked by turning a unit vector by the golden
+// angle at each tap, so only the first tap needs trigonometry.
+const SEARCH_TAPS: i32 = 12;
+const FILTER_TAPS: i32 = 12;
+// cos and sin of the golden angle, 2.39996323 radians.
+const GOLDEN_TURN: vec2<f32> = vec2<f32>(-0.73736888, 0.67549029);
 
-fn spiral_tap(i: i32, turn: f32) -> vec2<f32> {
-    let r = sqrt((f32(i) + 0.5) / f32(TAPS));
-    let a = f32(i) * 2.39996323 + turn;
-    return r * vec2<f32>(cos(a), sin(a));
+// The direction after `d` turned by the golden angle.
+fn next_direction(d: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(d.x * GOLDEN_TURN.x - d.y * GOLDEN_TURN.y, d.x * GOLDEN_TURN.y + d.y * GOLDEN_TURN.x);
 }
 
 // A fixed pseudo-random angle per pixel (interleaved gradient noise), radians.
@@ -76,8 +79,8 @@ fn pixel_turn(frag: vec2<f32>) -> f32 {
 // Share of the key light reaching world point `p` with normal `n` (1 lit, 0 in shadow):
 // percentage-closer soft shadows of an area light. The mean depth of the occluders near the
 // point sets the penumbra (receiver-to-occluder distance times the light's angular radius),
-// then filtered comparisons over that disk. 1 outside the shadow map (nothing there
-// casts a shadow).
+// then filtered comparisons (each a 2 x 2 bilinear comparison of the sampler) over that disk.
+// 1 outside the shadow map (nothing there casts a shadow).
 fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
     let q = photo.light_clip_from_world * vec4<f32>(p + n * photo.params.z, 1.0);
     let ndc = q.xyz / q.w;
@@ -91,10 +94,14 @@ fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
     let slope = clamp(vec2<f32>(-2.0 * g.x, 2.0 * g.y) / max(abs(g.z), 1e-6) * sign(g.z), vec2<f32>(-1e3), vec2<f32>(1e3));
     let uv_per_mm = 1.0 / (photo.params.w * size);
     let receiver_mm = ndc.z * photo.soft.y;
+    let first = vec2<f32>(cos(turn), sin(turn));
+    var d = first;
     var blockers = 0.0;
     var blocker_mm = 0.0;
-    for (var i = 0; i < TAPS; i++) {
-        let at = uv + spiral_tap(i, turn) * photo.soft.z * uv_per_mm;
+    for (var i = 0; i < SEARCH_TAPS; i++) {
+        let r = sqrt((f32(i) + 0.5) / f32(SEARCH_TAPS));
+        let at = uv + d * (r * photo.soft.z) * uv_per_mm;
+        d = next_direction(d);
         let texel = vec2<i32>(clamp(at, vec2<f32>(0.0), vec2<f32>(1.0)) * (size - 1.0));
         let d_mm = textureLoad(shadow_map, texel, 0) * photo.soft.y;
         let plane_mm = receiver_mm + dot(slope, at - uv) * photo.soft.y;
@@ -110,12 +117,15 @@ fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
     let radius_mm = clamp(distance_mm * photo.soft.x, photo.soft_min.x, photo.soft.w);
     let reference = (receiver_mm - photo.params.y) / photo.soft.y;
     var lit = 0.0;
-    for (var i = 0; i < TAPS; i++) {
-        let at = uv + spiral_tap(i, turn) * radius_mm * uv_per_mm;
+    d = first;
+    for (var i = 0; i < FILTER_TAPS; i++) {
+        let r = sqrt((f32(i) + 0.5) / f32(FILTER_TAPS));
+        let at = uv + d * (r * radius_mm) * uv_per_mm;
+        d = next_direction(d);
         let tap_reference = reference + dot(slope, at - uv);
         lit += textureSampleCompareLevel(shadow_map, shadow_sampler, at, tap_reference);
     }
-    return lit / f32(TAPS);
+    return lit / f32(FILTER_TAPS);
 }
 
 @fragment
@@ -127,4 +137,13 @@ fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let radiance = in.albedo * (photo.params.x + direct);
     return vec4<f32>(radiance, 0.0, 0.0, 1.0);
+}
+
+// Radiance of a surface the key light's shadow cannot reach (src/render/photo/mesh.rs,
+// PhotoMesh): faces turned away from the light (ambient only), the black crack sheets, and the
+// floor outside the shadow camera's frame. The same radiance fs_photo gives there.
+@fragment
+fn fs_photo_unshadowed(in: VertexOut) -> @location(0) vec4<f32> {
+    let direct = max(dot(in.normal, photo.towards_light.xyz), 0.0) * photo.towards_light.w;
+    return vec4<f32>(in.albedo * (photo.params.x + direct), 0.0, 0.0, 1.0);
 }

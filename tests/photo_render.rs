@@ -16,9 +16,9 @@ use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, root, Tolerance};
 
 /// Photo goldens: lavapipe renders them bit-identically run to run on the blessing machine
-/// (golden/README.md); the allowance is for another Mesa/LLVM, whose shadow filter (24 taps of
-/// trigonometry per pixel) and f32 sensor arithmetic may round a level differently here and
-/// there: at most 0.5% of pixels, by at most 12 levels.
+/// (golden/README.md); the allowance is for another Mesa/LLVM, whose shadow filter (12 + 12 taps
+/// on a spiral turned by one angle per pixel) and f32 sensor arithmetic may round a level
+/// differently here and there: at most 0.5% of pixels, by at most 12 levels.
 const PHOTO_TOLERANCE: Tolerance = Tolerance {
     max_differing_share: 0.005,
     max_abs_diff: 12,

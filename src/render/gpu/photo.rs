@@ -4,7 +4,7 @@
 //!
 //! Created on first use, so line-art rendering never builds them.
 
-use super::super::photo::mesh::PhotoVertex;
+use super::super::photo::mesh::{PhotoMesh, PhotoVertex};
 use super::super::RenderError;
 use super::Gpu;
 use std::sync::Mutex;
@@ -15,9 +15,11 @@ const PHOTO_WGSL: &str = include_str!("../../../shaders/photo.wgsl");
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Side of the square shadow map, texels: on a scene framed in 512 px, about four texels per
-/// picture pixel, fine enough for the crack's own shadow.
-pub const SHADOW_MAP_PX: u32 = 1024;
+/// Side of the square shadow map, texels: on a scene framed in 512 px, about two texels per
+/// picture pixel. 1024 gave pictures within a few levels of these (a quarter of a percent of
+/// the pixels differ by more than 4) at one and a half times the cost: the filter's taps
+/// spread over four times the memory.
+pub const SHADOW_MAP_PX: u32 = 512;
 
 /// Shader constants of one photo view (`Photo` in `shaders/photo.wgsl`).
 #[repr(C)]
@@ -45,6 +47,7 @@ pub struct PhotoUniforms {
 pub struct PhotoPass {
     shadow: wgpu::RenderPipeline,
     radiance: wgpu::RenderPipeline,
+    unshadowed: wgpu::RenderPipeline,
     uniforms: wgpu::Buffer,
     shadow_bind_group: wgpu::BindGroup,
     photo_bind_group: wgpu::BindGroup,
@@ -67,12 +70,13 @@ struct RadianceTargets {
 }
 
 impl Gpu {
-    /// Draws the photo look: the shadow map from the key light, then linear radiance of
-    /// `vertices` into a `size` px target, read back as `w * h` f32 rows top to bottom.
+    /// Draws the photo look: the shadow map from the key light, then linear radiance of the
+    /// mesh into a `size` px target (its shadowed triangles with the soft shadow test, the rest
+    /// without), read back as `w * h` f32 rows top to bottom.
     pub fn draw_photo(
         &self,
         slot: &PhotoSlot,
-        vertices: &[PhotoVertex],
+        mesh: &PhotoMesh,
         uniforms: &PhotoUniforms,
         size: [u32; 2],
     ) -> Result<Vec<f32>, RenderError> {
@@ -86,7 +90,7 @@ impl Gpu {
             *guard = Some(self.create_photo_pass());
         }
         let pass = guard.as_mut().expect("just created");
-        let bytes: &[u8] = bytemuck::cast_slice(vertices);
+        let bytes: &[u8] = bytemuck::cast_slice(&mesh.vertices);
         self.photo_buffers(pass, bytes.len() as u64, size);
         let vbuf = pass.vertices.as_ref().expect("just created");
         self.queue.write_buffer(vbuf, 0, bytes);
@@ -95,7 +99,12 @@ impl Gpu {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encode_photo_passes(&mut encoder, pass, vertices.len() as u32);
+        encode_photo_passes(
+            &mut encoder,
+            pass,
+            mesh.shadowed_vertices as u32,
+            mesh.vertices.len() as u32,
+        );
         self.queue.submit([encoder.finish()]);
         let t = pass.targets.as_ref().expect("just created");
         let result = self.read_radiance(t);
@@ -192,10 +201,13 @@ impl Gpu {
             let mut out = Vec::with_capacity(w * h);
             for r in 0..h {
                 let row = &bytes[r * t.row_bytes as usize..][..4 * w];
-                out.extend(
-                    row.chunks_exact(4)
-                        .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]])),
-                );
+                match bytemuck::try_cast_slice::<u8, f32>(row) {
+                    Ok(values) => out.extend_from_slice(values),
+                    Err(_) => out.extend(
+                        row.chunks_exact(4)
+                            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]])),
+                    ),
+                }
             }
             out
         };
@@ -267,6 +279,7 @@ impl Gpu {
         PhotoPass {
             shadow: photo_pipeline(device, &module, &shadow_bgl, None),
             radiance: photo_pipeline(device, &module, &photo_bgl, Some("fs_photo")),
+            unshadowed: photo_pipeline(device, &module, &photo_bgl, Some("fs_photo_unshadowed")),
             uniforms,
             shadow_bind_group,
             photo_bind_group,
@@ -384,8 +397,14 @@ fn photo_pipeline(
     })
 }
 
-/// The shadow pass, the radiance pass and the copy of the radiance into the readback buffer.
-fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, vertex_count: u32) {
+/// The shadow pass, the radiance pass (the first `shadowed` vertices with the shadow test, the
+/// rest of the `vertex_count` without) and the copy of the radiance into the readback buffer.
+fn encode_photo_passes(
+    encoder: &mut wgpu::CommandEncoder,
+    pass: &PhotoPass,
+    shadowed: u32,
+    vertex_count: u32,
+) {
     let t = pass.targets.as_ref().expect("created before encoding");
     let vbuf = pass.vertices.as_ref().expect("created before encoding");
     let depth = |view| {
@@ -426,10 +445,12 @@ fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, ver
             depth_stencil_attachment: depth(&t.depth_view),
             ..Default::default()
         });
-        rp.set_pipeline(&pass.radiance);
         rp.set_bind_group(0, &pass.photo_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
-        rp.draw(0..vertex_count, 0..1);
+        rp.set_pipeline(&pass.radiance);
+        rp.draw(0..shadowed, 0..1);
+        rp.set_pipeline(&pass.unshadowed);
+        rp.draw(shadowed..vertex_count, 0..1);
     }
     encoder.copy_texture_to_buffer(
         t.radiance.as_image_copy(),

@@ -111,6 +111,192 @@ pub fn block_albedos(scene: &Scene, [lo, hi]: [f64; 2], seed: u64) -> Vec<f64> {
 /// touching blocks draw back by half a crack each, and a black sheet fills the crack's middle
 /// plane where they touch: no light reaches the bottom of a narrow crack ([`find_contacts`]).
 pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<PhotoVertex> {
+    let mut out = block_vertices(scene, albedos);
+    push_polygon(
+        &mut out,
+        &floor_corners(camera, 0.0),
+        DVec3::Y,
+        PHOTO_FLOOR_ALBEDO,
+    );
+    out
+}
+
+/// The render mesh of [`photo_vertices`] ordered by the work its pixels need: first the
+/// triangles the key light's soft shadow can reach, then the rest, which the renderer shades
+/// without the shadow test (the same radiance: their light share is 1, or it does not matter).
+/// The rest are the faces turned away from the light (ambient only), the black crack sheets,
+/// block faces no other block comes near on the light's side, and the floor away from every
+/// block's shadow ([`photo_mesh`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhotoMesh {
+    /// Triangles, the shadowed ones first.
+    pub vertices: Vec<PhotoVertex>,
+    /// How many of `vertices`, from the start, need the shadow test.
+    pub shadowed_vertices: usize,
+}
+
+/// Drop of the floor drawn without the shadow test below the floor drawn with it, mm: the two
+/// never fight over a pixel's depth (the shadowed part wins where both are drawn), and that
+/// far from every block a 0.1 mm lower floor looks the same.
+pub const OUTER_FLOOR_DROP_MM: f64 = 0.1;
+
+/// The photo look's render mesh ([`PhotoMesh`]) lit from `towards_light` (elevation at least
+/// 10 degrees): a point can be in shadow only when some other block comes within `reach_mm`
+/// of the light's path from it, across the light (the shader's blocker search radius plus a
+/// margin). So a light-facing block face needs the shadow test only when another block's box
+/// meets its own box, grown by the reach and swept towards the light, and the floor only
+/// inside the convex hull of the blocks' boxes, grown by the reach and cast along the light
+/// onto the floor; the whole floor square lies [`OUTER_FLOOR_DROP_MM`] lower with the rest.
+pub fn photo_mesh(
+    scene: &Scene,
+    camera: &Camera,
+    albedos: &[f64],
+    towards_light: DVec3,
+    reach_mm: f64,
+) -> PhotoMesh {
+    let light = towards_light.as_vec3();
+    let boxes: Vec<(DVec3, DVec3)> = scene
+        .blocks
+        .iter()
+        .map(|b| crate::geom::bounds3(b.world_vertices()).unwrap_or_default())
+        .collect();
+    let (mut shadowed, mut rest) = (Vec::new(), Vec::new());
+    let mut push =
+        |corners: &[DVec3], outward: DVec3, albedo: f64, occluders: &[(DVec3, DVec3)]| {
+            let mut tris = Vec::new();
+            push_polygon(&mut tris, corners, outward, albedo);
+            let reachable =
+                albedo > 0.0 && may_be_shadowed(corners, towards_light, reach_mm, occluders);
+            for t in tris.chunks_exact(3) {
+                let facing = glam::Vec3::from_array(t[0].normal).dot(light) > 0.0;
+                let out = if reachable && facing {
+                    &mut shadowed
+                } else {
+                    &mut rest
+                };
+                out.extend_from_slice(t);
+            }
+        };
+    let contacts = find_contacts(scene);
+    for (i, ((block, albedo), touching)) in scene
+        .blocks
+        .iter()
+        .zip(albedos)
+        .zip(&contacts.touching)
+        .enumerate()
+    {
+        let grown = grow_box(boxes[i], reach_mm);
+        let occluders: Vec<(DVec3, DVec3)> = (0..boxes.len())
+            .filter(|&j| j != i && swept_box_meets(grown, towards_light, boxes[j]))
+            .map(|j| boxes[j])
+            .collect();
+        let retract_mm: Vec<f64> = touching
+            .iter()
+            .map(|t| if *t { CRACK_MM / 2.0 } else { 0.0 })
+            .collect();
+        for polygon in bevelled_block(block, BEVEL_MM, &retract_mm) {
+            push(&polygon.corners, polygon.outward, *albedo, &occluders);
+        }
+    }
+    for sheet in &contacts.sheets {
+        push(&sheet.corners, sheet.outward, 0.0, &[]);
+    }
+    let shadowed_floor = clip_convex(
+        &floor_under_shadows(&boxes, towards_light, reach_mm),
+        &floor_corners(camera, 0.0),
+        DVec3::Y,
+    );
+    push_polygon(&mut shadowed, &shadowed_floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+    let lowered = floor_corners(camera, -OUTER_FLOOR_DROP_MM);
+    push_polygon(&mut rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+    let shadowed_vertices = shadowed.len();
+    shadowed.extend(rest);
+    PhotoMesh {
+        vertices: shadowed,
+        shadowed_vertices,
+    }
+}
+
+/// The box `(lo, hi)` grown by `mm` on every side.
+fn grow_box((lo, hi): (DVec3, DVec3), mm: f64) -> (DVec3, DVec3) {
+    (lo - DVec3::splat(mm), hi + DVec3::splat(mm))
+}
+
+/// Whether some box of `occluders` meets the box of `face` grown by `reach_mm` and swept
+/// towards the light.
+fn may_be_shadowed(
+    face: &[DVec3],
+    towards_light: DVec3,
+    reach_mm: f64,
+    occluders: &[(DVec3, DVec3)],
+) -> bool {
+    let Some(bounds) = crate::geom::bounds3(face.iter().copied()) else {
+        return false;
+    };
+    let grown = grow_box(bounds, reach_mm);
+    occluders
+        .iter()
+        .any(|b| swept_box_meets(grown, towards_light, *b))
+}
+
+/// Whether box `(lo, hi)` moved by `t * dir` for some `t >= 0` overlaps box `other` (touching
+/// counts): the slab test, one interval of `t` per axis.
+fn swept_box_meets((lo, hi): (DVec3, DVec3), dir: DVec3, (olo, ohi): (DVec3, DVec3)) -> bool {
+    let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+    for k in 0..3 {
+        let d = dir[k];
+        if d.abs() < 1e-12 {
+            if lo[k] > ohi[k] || hi[k] < olo[k] {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((olo[k] - hi[k]) / d, (ohi[k] - lo[k]) / d);
+        t0 = t0.max(a.min(b));
+        t1 = t1.min(a.max(b));
+        if t0 > t1 {
+            return false;
+        }
+    }
+    true
+}
+
+/// The floor polygon (y = 0, counter-clockwise seen from above) that a shadow can reach: the
+/// convex hull of the corners of every block's box grown by `reach_mm`, cast along the light
+/// onto the floor.
+fn floor_under_shadows(
+    boxes: &[(DVec3, DVec3)],
+    towards_light: DVec3,
+    reach_mm: f64,
+) -> Vec<DVec3> {
+    let along = towards_light.normalize_or(DVec3::Y);
+    let cast: Vec<glam::DVec2> = boxes
+        .iter()
+        .flat_map(|b| {
+            let (lo, hi) = grow_box(*b, reach_mm);
+            (0..8).map(move |k| {
+                let p = DVec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                );
+                let on_floor = p - along * (p.y / along.y.max(1e-6));
+                glam::DVec2::new(on_floor.x, on_floor.z)
+            })
+        })
+        .collect();
+    let hull = crate::geom::convex_hull(&cast);
+    if hull.len() < 3 {
+        return Vec::new();
+    }
+    sort_around(
+        hull.iter().map(|p| DVec3::new(p.x, 0.0, p.y)).collect(),
+        DVec3::Y,
+    )
+}
+
+/// Triangles of every block (cracked and bevelled) and of the black crack sheets.
+fn block_vertices(scene: &Scene, albedos: &[f64]) -> Vec<PhotoVertex> {
     let mut out = Vec::with_capacity(6 + scene.blocks.len() * 44 * 3);
     let contacts = find_contacts(scene);
     for ((block, albedo), touching) in scene.blocks.iter().zip(albedos).zip(&contacts.touching) {
@@ -125,17 +311,21 @@ pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<Ph
     for sheet in &contacts.sheets {
         push_polygon(&mut out, &sheet.corners, sheet.outward, 0.0);
     }
+    out
+}
+
+/// The floor square at height `y_mm` under the camera target, as wide as the far clip
+/// distance (at least 1 m each way), counter-clockwise seen from above.
+fn floor_corners(camera: &Camera, y_mm: f64) -> [DVec3; 4] {
     let half = camera.near_far_mm[1].max(1000.0);
     let [cx, _, cz] = camera.target_mm;
-    let corner = |dx: f64, dz: f64| DVec3::new(cx + dx * half, 0.0, cz + dz * half);
-    let floor = [
+    let corner = |dx: f64, dz: f64| DVec3::new(cx + dx * half, y_mm, cz + dz * half);
+    [
         corner(-1.0, -1.0),
         corner(-1.0, 1.0),
         corner(1.0, 1.0),
         corner(1.0, -1.0),
-    ];
-    push_polygon(&mut out, &floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
-    out
+    ]
 }
 
 /// A flat convex polygon of the render mesh with its outward direction.
@@ -534,5 +724,59 @@ mod tests {
         let apart = find_contacts(&pair(15.5));
         assert!(apart.sheets.is_empty());
         assert!(apart.touching.iter().flatten().all(|t| !t));
+    }
+
+    #[test]
+    fn a_swept_box_meets_what_lies_towards_the_light_only() {
+        let unit = (DVec3::ZERO, DVec3::ONE);
+        let up = DVec3::new(0.0, 1.0, 0.0);
+        let above = (DVec3::new(0.0, 5.0, 0.0), DVec3::new(1.0, 6.0, 1.0));
+        let below = (DVec3::new(0.0, -6.0, 0.0), DVec3::new(1.0, -5.0, 1.0));
+        let aside = (DVec3::new(3.0, 5.0, 0.0), DVec3::new(4.0, 6.0, 1.0));
+        assert!(swept_box_meets(unit, up, above));
+        assert!(!swept_box_meets(unit, up, below), "behind the light's path");
+        assert!(!swept_box_meets(unit, up, aside), "beside the light's path");
+        assert!(
+            swept_box_meets(grow_box(unit, 2.0), up, aside),
+            "within the reach"
+        );
+        let slanted = DVec3::new(1.0, 1.0, 0.0).normalize();
+        assert!(swept_box_meets(unit, slanted, aside));
+    }
+
+    #[test]
+    fn only_faces_and_floor_near_another_block_get_the_shadow_test() {
+        let cam = Camera::frame(
+            &cube().world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let light = key_light(&cam, 0.0, 1).towards_light;
+        let lone = Scene::new("c", vec![cube()]);
+        let m = photo_mesh(&lone, &cam, &[0.9], light, 9.0);
+        // A lone convex block shades no face of its own: only the floor near it is shadowed.
+        let shadowed = &m.vertices[..m.shadowed_vertices];
+        assert!(!shadowed.is_empty() && shadowed.iter().all(|v| v.albedo == 0.15));
+        assert!(shadowed.iter().all(|v| v.position_mm[1] == 0.0));
+        // Every block triangle is drawn once, whichever pipeline draws it.
+        let all = photo_vertices(&lone, &cam, &[0.9]);
+        let blocks = |v: &[PhotoVertex]| v.iter().filter(|v| v.albedo != 0.15).count();
+        assert_eq!(blocks(&m.vertices), blocks(&all));
+        // A cube on top of another, shifted towards the light: the lower one's top faces it.
+        let shift = DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
+        let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
+        let stack = Scene::new("s", vec![cube(), upper]);
+        let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
+        let shadowed = &m.vertices[..m.shadowed_vertices];
+        assert!(shadowed
+            .iter()
+            .any(|v| v.albedo == 0.9 && v.normal[1] > 0.99));
+        assert!(!shadowed
+            .iter()
+            .any(|v| v.albedo == 0.8 && v.normal[1] > 0.99));
+        let rest = &m.vertices[m.shadowed_vertices..];
+        assert!(rest
+            .iter()
+            .any(|v| v.position_mm[1] == -OUTER_FLOOR_DROP_MM as f32));
     }
 }

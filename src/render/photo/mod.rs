@@ -174,7 +174,8 @@ impl Renderer {
     }
 
     /// The photo look's picture at `camera`'s full size: the bevelled, cracked render mesh
-    /// shaded on the GPU with the scene's key light and shadow map, `SUPERSAMPLING`^2 samples
+    /// shaded on the GPU with the scene's key light and shadow map (the soft shadow test only
+    /// where a shadow can reach, [`mesh::photo_mesh`]), `SUPERSAMPLING`^2 samples
     /// averaged per pixel, then exposed on the sensor (noise seeded per scene and view).
     fn expose_photo(
         &self,
@@ -185,14 +186,13 @@ impl Renderer {
     ) -> Result<GrayImage, RenderError> {
         let light = mesh::key_light(camera, opts.photo.light_jitter_deg, opts.seed);
         let albedos = mesh::block_albedos(scene, opts.photo.block_albedo_range, opts.seed);
-        let vertices = mesh::photo_vertices(scene, camera, &albedos);
+        let reach_mm = BLOCKER_SEARCH_MM + SHADOW_REACH_MARGIN_MM;
+        let mesh = mesh::photo_mesh(scene, camera, &albedos, light.towards_light, reach_mm);
         let uniforms = photo_uniforms(scene, camera, &light);
         let [w, h] = camera.size_px;
         let size = [w * SUPERSAMPLING, h * SUPERSAMPLING];
-        let samples = self
-            .gpu
-            .draw_photo(&self.photo, &vertices, &uniforms, size)?;
-        let radiance = box_average(&samples, size, SUPERSAMPLING);
+        let samples = self.gpu.draw_photo(&self.photo, &mesh, &uniforms, size)?;
+        let radiance = box_average(samples, size, SUPERSAMPLING);
         Ok(opts
             .photo
             .sensor
@@ -267,6 +267,10 @@ fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> Pho
 /// the catalog casts on its neighbours is about this).
 const BLOCKER_SEARCH_MM: f64 = 8.0;
 
+/// Added to the blocker search radius for [`mesh::photo_mesh`]'s reach of a shadow, mm: covers
+/// the receiver's offset along its normal and the shadow map's texels.
+const SHADOW_REACH_MARGIN_MM: f64 = 1.0;
+
 /// Smallest penumbra radius, mm: where a shadow touches its occluder (a block on another's
 /// top) a hard shadow edge would draw a line no block has.
 const MIN_PENUMBRA_MM: f64 = 0.05;
@@ -277,8 +281,16 @@ const MAX_PENUMBRA_MM: f64 = 12.0;
 /// Depth bias of the shadow test, mm along the light: far below the crack's width.
 const SHADOW_BIAS_MM: f64 = 0.02;
 
-/// Averages `factor` x `factor` blocks of a `size` radiance buffer (rows top to bottom).
-fn box_average(samples: &[f32], [w, h]: [u32; 2], factor: u32) -> RadianceImage {
+/// Averages `factor` x `factor` blocks of a `size` radiance buffer (rows top to bottom); a
+/// factor of 1 hands the buffer over as it is.
+fn box_average(samples: Vec<f32>, [w, h]: [u32; 2], factor: u32) -> RadianceImage {
+    if factor <= 1 {
+        return RadianceImage {
+            width: w,
+            height: h,
+            values: samples,
+        };
+    }
     let (ow, oh) = (w / factor, h / factor);
     let mut out = RadianceImage::filled(ow, oh, 0.0);
     let scale = 1.0 / (factor * factor) as f32;
@@ -304,7 +316,7 @@ mod tests {
     #[test]
     fn box_average_of_a_4x2_buffer_is_two_means() {
         let s = [0.0, 1.0, 0.5, 0.5, 1.0, 0.0, 0.25, 0.75];
-        let r = box_average(&s, [4, 2], 2);
+        let r = box_average(s.to_vec(), [4, 2], 2);
         assert_eq!((r.width, r.height), (2, 1));
         assert_eq!(r.values, vec![0.5, 0.5]);
     }
