@@ -25,6 +25,10 @@ pub struct Args {
     /// Smoothed Sobel magnitude above this is an edge (the thesis used 80, Ch. VI).
     #[arg(long, default_value_t = EdgeOptions::default().threshold)]
     pub threshold: u16,
+    /// Hysteresis: a smoothed magnitude above this, connected to one above `--threshold`, is
+    /// an edge too (README "Photographic look"); `--weak-threshold 80` turns it off.
+    #[arg(long, default_value_t = EdgeOptions::default().weak_threshold)]
+    pub weak_threshold: u16,
 }
 
 /// Runs `blockworld vertices`.
@@ -33,6 +37,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let camera = read_camera(&args.camera)?;
     let mut opts = VisionOptions::default();
     opts.edges.threshold = args.threshold;
+    opts.edges.weak_threshold = args.weak_threshold;
     let det = with_progress("vertices", "steps", VISION_STEPS, |p| {
         detect_line_drawing_with_progress(&gray, &camera, &opts, p)
     })
