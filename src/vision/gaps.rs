@@ -122,7 +122,8 @@ fn first_hit(lines: &[FittedLine], i: usize, e: usize, opts: &GapOptions) -> Opt
             let near = ahead(l.from_px).min(ahead(l.to_px));
             if near > 0.0 {
                 // A piece starting at a crossing is the edge's own continuation: it wins over
-                // the crossing (a short piece's direction may miss the corner by a few px).
+                // the crossing (a short piece's direction may miss the corner by a few px), and
+                // the edge passes through there (Chapter V's two collinear "T", a staircase).
                 take(
                     (near - opts.join_radius_px).max(f64::MIN_POSITIVE),
                     Hit::Piece(j),
@@ -281,14 +282,12 @@ mod tests {
 
     #[test]
     fn ends_that_meet_a_line_are_not_moved() {
-        // A "T": the stem meets the bar; a parallel piece beyond the bar is not joined.
+        // A "T": the stem's foot meets the bar, its top is free with nothing ahead.
         let foot = DVec2::new(100.0, 100.0);
         let lines = vec![
             seg(1, foot - R * 40.0, foot + R * 80.0),
             seg(0, foot + DVec2::Y * 3.0, foot + DVec2::Y * 60.0),
-            seg(0, foot - DVec2::Y * 60.0, foot - DVec2::Y * 20.0),
         ];
-        let out = bridge_free_ends(&lines, &GapOptions::default());
-        assert_eq!(out[1], lines[1]);
+        assert_eq!(bridge_free_ends(&lines, &GapOptions::default()), lines);
     }
 }
