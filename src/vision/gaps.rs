@@ -17,6 +17,7 @@
 //! line are never moved, so a drawing with no free end (every line-art view) is unchanged.
 
 use super::lines::FittedLine;
+use super::vertices::intersect as crossing;
 use crate::geom::DVec2;
 
 /// Options of [`bridge_free_ends`], picture px.
@@ -42,16 +43,6 @@ impl Default for GapOptions {
             collinear_px: 2.0,
         }
     }
-}
-
-/// Intersection of the infinite lines of `a` and `b`; `None` when (nearly) parallel.
-fn crossing(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
-    let den = a.direction.perp_dot(b.direction);
-    if den.abs() < 0.05 {
-        return None;
-    }
-    let t = (b.centroid_px - a.centroid_px).perp_dot(b.direction) / den;
-    Some(a.centroid_px + a.direction * t)
 }
 
 /// `true` when `t` lies within `l`'s extent along it, grown by `slack_px` at both ends.
