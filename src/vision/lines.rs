@@ -775,7 +775,7 @@ const SEAM_END_MARGIN_PX: f64 = 5.0;
 const SEAM_SIDE_PX: f64 = 2.0;
 
 /// Gray level at picture point `p` (nearest pixel), `None` outside the picture.
-fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
+pub(super) fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
     let (w, h) = gray.dimensions();
     let (x, y) = (floor_i64(p.x), floor_i64(p.y));
     if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {

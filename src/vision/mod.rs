@@ -6,10 +6,16 @@
 //!    binary edge map ([`EdgeOptions`], default threshold 80 as in the thesis).
 //! 2. [`fit_lines`]: straight segments along the three picture directions of block edges
 //!    ([`edge_directions`], from the camera: parallel, or through vanishing points), each fitted by least squares (Ch. VI).
+//!    [`drop_soft_edges`] drops lines along soft shading (a shadow's penumbra, read across
+//!    the line in the picture), and [`bridge_free_ends`] then carries a line that stops in the open (an edge a soft shadow
+//!    hides over part of its length) on to the line ahead of it.
 //! 3. [`find_vertices`]: vertices at the intersections and ends of the fitted lines, as a
 //!    [`LineDrawing`] whose `finalize` gives each vertex its six-bit code (Chapter IV bit order:
 //!    0 up, 1 down, 2 left-up, 3 left-down, 4 right-up, 5 right-down; Appendix A's table uses
 //!    another order and is not followed) and junction class (Ch. V "Y" and collinear "T").
+//!
+//!    [`add_faint_edges`] then adds the edges too faint for the threshold between vertices the
+//!    drawing already has, where the picture shows them.
 //!
 //! 4. [`find_curved_edges`]: the edges that are not straight (a round part's rims, Chapter
 //!    VII's "circles") reported as curves, chains of chords flagged in `curved_lines` as in the
@@ -24,23 +30,30 @@ mod curves;
 mod edges;
 mod error;
 mod eval;
+mod faint;
+mod gaps;
 mod lines;
+mod soft;
 mod vertices;
 
 pub use curves::{add_curved_edges, find_curved_edges, fit_circle, residue_map, CurvedEdge};
 pub use edges::{
-    detect_edges, smooth_3x3, sobel_magnitude, threshold, EdgeOptions, MagnitudeImage, SmoothWindow,
+    detect_edges, smooth_3x3, sobel_magnitude, threshold, threshold_hysteresis, EdgeOptions,
+    MagnitudeImage, SmoothWindow,
 };
 pub use error::VisionError;
 pub use eval::{
     line_angle_errors_deg, match_vertices, match_vertices_with_tolerances, MatchTolerances,
     VertexMatch,
 };
+pub use faint::{add_faint_edges, noise_levels, FaintEdgeOptions};
+pub use gaps::{bridge_free_ends, GapOptions};
 pub use lines::{
     edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,
     picture_directions, picture_from_raster, refine_lines_on_seams, EdgeDirection, FittedLine,
     LineOptions,
 };
+pub use soft::{drop_soft_edges, step_sharpness, STEP_SHARPNESS_MIN};
 pub use vertices::{find_vertices, VertexOptions};
 
 use crate::camera::Camera;
@@ -58,8 +71,12 @@ pub struct VisionOptions {
     pub edges: EdgeOptions,
     /// Step 2: line finding and fitting.
     pub lines: LineOptions,
+    /// Step 2b: free line ends carried on to the line they stop short of.
+    pub gaps: GapOptions,
     /// Step 3: vertices.
     pub vertices: VertexOptions,
+    /// Step 3b: faint edges between found vertices.
+    pub faint: FaintEdgeOptions,
 }
 
 /// Everything the front end found in one picture.
@@ -248,7 +265,7 @@ fn timed_edges(
     timings.smooth_ms = ms_since(t);
     progress(2, VISION_STEPS);
     let t = std::time::Instant::now();
-    let edges = threshold(&smoothed, opts.edges.threshold);
+    let edges = threshold_hysteresis(&smoothed, opts.edges.threshold, opts.edges.weak_threshold);
     timings.threshold_ms = ms_since(t);
     progress(3, VISION_STEPS);
     (edges, timings)
@@ -278,11 +295,14 @@ fn detect_from_edges(
         );
     }
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
+    let lines = drop_soft_edges(image, &lines);
     let (curves, lines) = find_curved_edges(&edges, &lines);
+    let lines = bridge_free_ends(&lines, &opts.gaps);
     timings.lines_ms = ms_since(t);
     progress(4, VISION_STEPS);
     let t = std::time::Instant::now();
     let mut drawing = find_vertices(&lines, &opts.vertices);
+    add_faint_edges(image, &mut drawing, directions, &opts.faint);
     if !curves.is_empty() {
         add_curved_edges(&mut drawing, &curves);
     }

@@ -36,7 +36,7 @@ impl Default for VertexOptions {
 }
 
 /// Intersection of the infinite lines of `a` and `b`; `None` when (nearly) parallel.
-fn intersect(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
+pub(super) fn intersect(a: &FittedLine, b: &FittedLine) -> Option<DVec2> {
     let den = a.direction.perp_dot(b.direction);
     if den.abs() < 0.05 {
         return None;

@@ -7,7 +7,8 @@ use crate::cli::files::{read_camera, read_picture};
 use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::vision::{
-    detect_line_drawing_with_progress, EdgeOptions, VisionOptions, VISION_STEPS,
+    detect_line_drawing_with_progress, EdgeOptions, FaintEdgeOptions, GapOptions, VisionOptions,
+    VISION_STEPS,
 };
 use std::path::PathBuf;
 
@@ -25,6 +26,19 @@ pub struct Args {
     /// Smoothed Sobel magnitude above this is an edge (the thesis used 80, Ch. VI).
     #[arg(long, default_value_t = EdgeOptions::default().threshold)]
     pub threshold: u16,
+    /// Hysteresis: a smoothed magnitude above this, connected to one above `--threshold`, is
+    /// an edge too (README "Photographic look"); `--weak-threshold 80` turns it off.
+    #[arg(long, default_value_t = EdgeOptions::default().weak_threshold)]
+    pub weak_threshold: u16,
+    /// Faint edges between found vertices: the smallest step across them, gray levels.
+    #[arg(long, default_value_t = FaintEdgeOptions::default().min_step_levels)]
+    pub faint_min_step: f64,
+    /// Faint edges: the share of their length that must show the step.
+    #[arg(long, default_value_t = FaintEdgeOptions::default().min_share)]
+    pub faint_min_share: f64,
+    /// Longest stretch a line's free end is carried on to the line ahead, px.
+    #[arg(long, default_value_t = GapOptions::default().max_gap_px)]
+    pub max_gap: f64,
 }
 
 /// Runs `blockworld vertices`.
@@ -33,6 +47,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let camera = read_camera(&args.camera)?;
     let mut opts = VisionOptions::default();
     opts.edges.threshold = args.threshold;
+    opts.edges.weak_threshold = args.weak_threshold;
+    opts.faint.min_step_levels = args.faint_min_step;
+    opts.faint.min_share = args.faint_min_share;
+    opts.gaps.max_gap_px = args.max_gap;
     let det = with_progress("vertices", "steps", VISION_STEPS, |p| {
         detect_line_drawing_with_progress(&gray, &camera, &opts, p)
     })
