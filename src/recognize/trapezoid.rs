@@ -103,9 +103,7 @@ pub fn face_gradients(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) -> V
                 }
                 let n = n.normalize() * n.dot(towards).signum();
                 let c = DVec3::new(n.dot(right), n.dot(up), n.dot(towards));
-                let sloped = [DVec3::X, DVec3::Y, DVec3::Z]
-                    .iter()
-                    .all(|axis| n.dot(*axis).abs() < (tol_deg.to_radians()).cos());
+                let sloped = off_every_axis(n, tol_deg);
                 out.push(FaceGradient {
                     point,
                     lines: [l1, l2],
