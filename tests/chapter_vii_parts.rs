@@ -286,6 +286,23 @@ const PROJECTIONS: [Projection; 2] = [
     Projection::Perspective { fov_y_deg: 30.0 },
 ];
 
+/// Scenes with no round part, in which no curve may be reported: the wedge and cube of
+/// [`wedge_and_round_part`] without its round part, and a two-layer stack of the basic blocks.
+fn scenes_without_round_parts() -> [Scene; 2] {
+    let wedge = wedge_and_round_part();
+    [
+        Scene::new("wedge", wedge.blocks[..2].to_vec()),
+        Scene::new(
+            "two_layer",
+            vec![
+                Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
+                Block::new("b15", DVec3::new(0.0, 22.5, 0.0), 90.0),
+                Block::new("b7_5", DVec3::new(22.5, 3.75, 0.0), 0.0),
+            ],
+        ),
+    ]
+}
+
 /// Scenes with one round part, and its index: alone, beside a cube, on a cube.
 fn round_scenes() -> Vec<(Scene, usize)> {
     let cube = Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0);
@@ -399,18 +416,7 @@ fn parallelogram_search_fails_on_round_parts_chapter_vii() {
             );
         }
     }
-    let wedge = wedge_and_round_part();
-    let basic = [
-        Scene::new("wedge", wedge.blocks[..2].to_vec()),
-        Scene::new(
-            "two_layer",
-            vec![
-                Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
-                Block::new("b15", DVec3::new(0.0, 22.5, 0.0), 90.0),
-                Block::new("b7_5", DVec3::new(22.5, 3.75, 0.0), 0.0),
-            ],
-        ),
-    ];
+    let basic = scenes_without_round_parts();
     for scene in &basic {
         for v in views_of(scene, false) {
             let curved = curved_chain_lines(&v.drawing);
@@ -629,18 +635,7 @@ fn round_parts_are_declined_from_pictures_chapter_vii() {
             );
         }
     }
-    let wedge = wedge_and_round_part();
-    let basic = [
-        Scene::new("wedge", wedge.blocks[..2].to_vec()),
-        Scene::new(
-            "two_layer",
-            vec![
-                Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0),
-                Block::new("b15", DVec3::new(0.0, 22.5, 0.0), 90.0),
-                Block::new("b7_5", DVec3::new(22.5, 3.75, 0.0), 0.0),
-            ],
-        ),
-    ];
+    let basic = scenes_without_round_parts();
     for scene in &basic {
         for v in drawings_from_pictures(&renderer, scene, 0.0) {
             let curved = curved_chain_lines(&v.drawing);
