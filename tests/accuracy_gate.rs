@@ -23,35 +23,40 @@ use blockworld::score::{
 };
 use std::sync::OnceLock;
 
-/// A committed suite, how its pictures are taken, and the golden file that holds it.
+/// A committed suite, how its pictures are taken, the golden file that holds it, and its scenes
+/// and pipeline runs, each made once per test binary.
 struct Suite {
     dir: &'static str,
     look: Look,
     golden: &'static str,
+    scenes: OnceLock<Vec<(String, Scene)>>,
+    runs: OnceLock<Option<Vec<SceneRun>>>,
 }
 
 /// The three basic blocks and the Chapter VII failure cases, in line art.
-const BASIC: Suite = Suite {
-    dir: "scenes/bench",
-    look: Look::LineArt,
-    golden: "golden/accuracy.json",
-};
+static BASIC: Suite = Suite::new("scenes/bench", Look::LineArt, "golden/accuracy.json");
 
 /// The trapezoidal block and the round part (Ch. VII, Figure 7.1), in line art.
-const CHAPTER_VII: Suite = Suite {
-    dir: "scenes/chapter_vii",
-    look: Look::LineArt,
-    golden: "golden/accuracy_chapter_vii.json",
-};
+static CHAPTER_VII: Suite = Suite::new(
+    "scenes/chapter_vii",
+    Look::LineArt,
+    "golden/accuracy_chapter_vii.json",
+);
 
 /// The basic suite in the photographic look (README "Photographic look"), 512 x 480.
-const PHOTO: Suite = Suite {
-    dir: "scenes/bench",
-    look: Look::Photo,
-    golden: "golden/accuracy_photo.json",
-};
+static PHOTO: Suite = Suite::new("scenes/bench", Look::Photo, "golden/accuracy_photo.json");
 
 impl Suite {
+    const fn new(dir: &'static str, look: Look, golden: &'static str) -> Suite {
+        Suite {
+            dir,
+            look,
+            golden,
+            scenes: OnceLock::new(),
+            runs: OnceLock::new(),
+        }
+    }
+
     /// The pipeline's options for this suite: the defaults in the suite's look.
     fn options(&self) -> PipelineOptions {
         PipelineOptions {
@@ -62,47 +67,32 @@ impl Suite {
             ..PipelineOptions::default()
         }
     }
-}
 
-fn read_suite(suite: &Suite) -> Vec<(String, Scene)> {
-    common::json_files(&common::root().join(suite.dir))
-        .iter()
-        .map(|p| {
-            (
-                common::stem(p),
-                read_scene(p).unwrap_or_else(|e| panic!("{e}")),
-            )
+    /// The suite's scene files, `(id, scene)` sorted by id.
+    fn scenes(&self) -> &[(String, Scene)] {
+        self.scenes.get_or_init(|| {
+            common::json_files(&common::root().join(self.dir))
+                .iter()
+                .map(|p| {
+                    (
+                        common::stem(p),
+                        read_scene(p).unwrap_or_else(|e| panic!("{e}")),
+                    )
+                })
+                .collect()
         })
-        .collect()
-}
+    }
 
-fn scenes(suite: &Suite) -> &'static [(String, Scene)] {
-    static BASIC_SCENES: OnceLock<Vec<(String, Scene)>> = OnceLock::new();
-    static CHAPTER_VII_SCENES: OnceLock<Vec<(String, Scene)>> = OnceLock::new();
-    let cell = if suite.dir == CHAPTER_VII.dir {
-        &CHAPTER_VII_SCENES
-    } else {
-        &BASIC_SCENES
-    };
-    cell.get_or_init(|| read_suite(suite))
-}
-
-/// The suite through the whole pipeline, once per test binary; `None` without a renderer
-/// (skipped unless `BLOCKWORLD_REQUIRE_GPU` is set).
-fn runs(suite: &Suite) -> Option<&'static [SceneRun]> {
-    static BASIC_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
-    static CHAPTER_VII_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
-    static PHOTO_RUNS: OnceLock<Option<Vec<SceneRun>>> = OnceLock::new();
-    let cell = match suite.golden {
-        g if g == CHAPTER_VII.golden => &CHAPTER_VII_RUNS,
-        g if g == PHOTO.golden => &PHOTO_RUNS,
-        _ => &BASIC_RUNS,
-    };
-    cell.get_or_init(|| {
-        let renderer = common::renderer()?;
-        Some(run_suite(&renderer, scenes(suite), &suite.options()))
-    })
-    .as_deref()
+    /// The suite through the whole pipeline; `None` without a renderer (skipped unless
+    /// `BLOCKWORLD_REQUIRE_GPU` is set).
+    fn runs(&self) -> Option<&[SceneRun]> {
+        self.runs
+            .get_or_init(|| {
+                let renderer = common::renderer()?;
+                Some(run_suite(&renderer, self.scenes(), &self.options()))
+            })
+            .as_deref()
+    }
 }
 
 fn golden(suite: &Suite) -> Golden {
@@ -130,7 +120,7 @@ fn the_photographic_look_does_not_regress_against_golden() {
 /// Prints the suite's verdicts and fails on a regression against its golden file (or writes
 /// it under `BLESS`).
 fn holds_against_golden(suite: &Suite) {
-    let Some(runs) = runs(suite) else { return };
+    let Some(runs) = suite.runs() else { return };
     let results: Vec<_> = runs.iter().map(|r| r.result.clone()).collect();
     for r in runs {
         let res = &r.result;
@@ -192,7 +182,7 @@ fn the_photographic_look_is_rarely_confidently_wrong() {
 }
 
 fn rarely_confidently_wrong(suite: &Suite) {
-    let Some(runs) = runs(suite) else { return };
+    let Some(runs) = suite.runs() else { return };
     let wrong: Vec<&str> = runs
         .iter()
         .filter(|r| r.result.confidently_wrong)
@@ -247,7 +237,8 @@ fn the_gate_fails_on_a_worse_recognizer() {
         },
         ..PipelineOptions::default()
     };
-    let results: Vec<_> = scenes(&BASIC)
+    let results: Vec<_> = BASIC
+        .scenes()
         .iter()
         .filter(|(id, _)| exact.contains(&id.as_str()))
         .map(|(id, s)| run_scene(&renderer, id, s, &worse).result)
