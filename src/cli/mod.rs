@@ -64,6 +64,7 @@ pub enum Command {
 pub fn main() -> std::process::ExitCode {
     headless::quiet_device_select_without_session();
     stdout::exit_cleanly_on_stdout_panics();
+    blockworld::dataset::keep_freed_pictures_in_heap();
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,

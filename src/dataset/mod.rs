@@ -20,6 +20,7 @@ pub use error::DatasetError;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
 pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpec, MAX_ATTEMPTS};
 pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
+pub use memory::keep_freed_pictures_in_heap;
 pub use shard::{Shard, ShardError};
 pub use writer::{
     generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,

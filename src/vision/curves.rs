@@ -20,7 +20,7 @@
 //! Block scenes leave only small blobs at junctions in the residue, so their drawings are
 //! unchanged.
 
-use super::lines::{fit_line_least_squares, picture_from_raster, FittedLine};
+use super::lines::{edge_pixels, fit_line_least_squares, picture_from_raster, FittedLine};
 use crate::drawing::LineDrawing;
 use crate::geom::{bounds2, DMat3, DVec2, DVec3, UnionFind};
 use image::GrayImage;
@@ -117,62 +117,94 @@ pub fn find_curved_edges(
     (curves, straight)
 }
 
-/// Distance from `p` to the segment of `line`, px.
-fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
+/// Squared distance from `p` to the segment of `line`, px² (compared with
+/// [`NEAR_LINE_PX`] squared: the same order as the distance, without a square root per pixel).
+fn distance_sq_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
     let (a, b) = (line.along_px(line.from_px), line.along_px(line.to_px));
     let t = line.along_px(p);
     let beyond = (a.min(b) - t).max(t - a.max(b)).max(0.0);
-    line.signed_distance_px(p).hypot(beyond)
+    let across = line.signed_distance_px(p);
+    across * across + beyond * beyond
 }
 
-/// The edge pixels within [`NEAR_LINE_PX`] of some line, as `(raster index, line)` with the
-/// nearest line (the lower index on a tie), sorted by index. Each line visits only its own
+/// Distance from `p` to the segment of `line`, px.
+#[cfg(test)]
+fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
+    distance_sq_to_line_px(line, p).sqrt()
+}
+
+/// The edge pixels of a binary map in raster order, with where each row's pixels start, so a
+/// pixel's place in the list is found among its row's few edge pixels (no raster-sized table).
+struct EdgeList {
+    /// `(column, row)` of each edge pixel, row by row.
+    px: Vec<(u32, u32)>,
+    /// `px[row_start[r]..row_start[r + 1]]` are row `r`'s pixels.
+    row_start: Vec<u32>,
+}
+
+impl EdgeList {
+    fn new(edges: &GrayImage) -> EdgeList {
+        let px = edge_pixels(edges.as_raw(), edges.width());
+        let mut row_start = vec![0u32; edges.height() as usize + 1];
+        for &(_, r) in &px {
+            row_start[r as usize + 1] += 1;
+        }
+        for r in 0..edges.height() as usize {
+            row_start[r + 1] += row_start[r];
+        }
+        EdgeList { px, row_start }
+    }
+
+    /// The place of the edge pixel `(col, row)` in the list, if it is one.
+    fn ordinal(&self, col: u32, row: u32) -> Option<usize> {
+        let (lo, hi) = (
+            self.row_start[row as usize] as usize,
+            self.row_start[row as usize + 1] as usize,
+        );
+        let in_row = &self.px[lo..hi];
+        in_row
+            .binary_search_by(|&(c, _)| c.cmp(&col))
+            .ok()
+            .map(|k| lo + k)
+    }
+}
+
+/// For every edge pixel of `list` (in its order), the line within [`NEAR_LINE_PX`] nearest to
+/// it (the lower index on a tie), or `u32::MAX` when none is. Each line visits only its own
 /// band, once per pixel: along its major picture axis, the few pixels across it
 /// ([`band_pixels`]), so the cost grows with the lines' length, not with edge pixels times
-/// lines; a pixel's nearest line so far is kept in a slot found through a raster-sized table,
-/// and the slots are read back in raster order (no sort of the hits).
-fn edge_pixels_near_lines(edges: &GrayImage, lines: &[FittedLine]) -> Vec<(usize, u32)> {
+/// lines.
+fn nearest_lines(edges: &GrayImage, list: &EdgeList, lines: &[FittedLine]) -> Vec<u32> {
     let (w, h) = edges.dimensions();
     let raw = edges.as_raw();
-    let mut slot = vec![u32::MAX; raw.len()];
-    let mut nearest: Vec<(f64, u32)> = Vec::new();
+    let near_sq = NEAR_LINE_PX * NEAR_LINE_PX;
+    let mut best = vec![(f64::INFINITY, u32::MAX); list.px.len()];
     for (li, line) in lines.iter().enumerate() {
         let li = li as u32;
-        band_pixels(line, w, h, &mut |c, r| {
-            let i = r as usize * w as usize + c as usize;
-            if raw[i] == 0 {
+        band_pixels(line, w, h, |c, r| {
+            if raw[r as usize * w as usize + c as usize] == 0 {
                 return;
             }
-            let d = distance_to_line_px(line, picture_from_raster(c, r, h));
-            if d > NEAR_LINE_PX {
+            let d = distance_sq_to_line_px(line, picture_from_raster(c, r, h));
+            if d > near_sq {
                 return;
             }
-            match slot[i] {
-                u32::MAX => {
-                    slot[i] = nearest.len() as u32;
-                    nearest.push((d, li));
-                }
-                k => {
-                    let best = &mut nearest[k as usize];
-                    if d < best.0 || (d == best.0 && li < best.1) {
-                        *best = (d, li);
-                    }
+            if let Some(k) = list.ordinal(c, r) {
+                let b = &mut best[k];
+                if d < b.0 || (d == b.0 && li < b.1) {
+                    *b = (d, li);
                 }
             }
         });
     }
-    slot.iter()
-        .enumerate()
-        .filter(|(_, &k)| k != u32::MAX)
-        .map(|(i, &k)| (i, nearest[k as usize].1))
-        .collect()
+    best.into_iter().map(|(_, li)| li).collect()
 }
 
 /// Calls `visit(col, row)` once for every raster pixel of a `w` x `h` picture that may lie
 /// within [`NEAR_LINE_PX`] of `line`'s segment: for each column (or row, when the line is
 /// steeper than 45 degrees) across the segment's extent widened by the band, the rows (columns)
 /// where the line crosses it, widened by the band over the line's slope and a pixel.
-fn band_pixels(line: &FittedLine, w: u32, h: u32, visit: &mut dyn FnMut(u32, u32)) {
+fn band_pixels(line: &FittedLine, w: u32, h: u32, mut visit: impl FnMut(u32, u32)) {
     let (a, b) = (line.from_px, line.to_px);
     let d = line.direction;
     let steep = d.y.abs() > d.x.abs();
@@ -214,8 +246,12 @@ fn band_pixels(line: &FittedLine, w: u32, h: u32, visit: &mut dyn FnMut(u32, u32
 /// junctions).
 pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
     let mut out = edges.clone();
-    for (i, _) in edge_pixels_near_lines(edges, lines) {
-        out.as_mut()[i] = 0;
+    let w = edges.width() as usize;
+    let list = EdgeList::new(edges);
+    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, &list, lines)) {
+        if li != u32::MAX {
+            out.as_mut()[r as usize * w + c as usize] = 0;
+        }
     }
     out
 }
@@ -223,22 +259,15 @@ pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
 /// The edge pixels (picture px) of each line (those within [`NEAR_LINE_PX`] of it, each to its
 /// nearest line) and the residue, the pixels near no line.
 fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
-    let (w, h) = edges.dimensions();
-    let near = edge_pixels_near_lines(edges, lines);
+    let h = edges.height();
+    let list = EdgeList::new(edges);
     let mut per_line = vec![Vec::new(); lines.len()];
     let mut residue = Vec::new();
-    let mut next = near.iter().peekable();
-    for (i, v) in edges.as_raw().iter().enumerate() {
-        if *v == 0 {
-            continue;
-        }
-        let p = picture_from_raster(i as u32 % w, i as u32 / w, h);
-        match next.peek() {
-            Some(&&(j, li)) if j == i => {
-                per_line[li as usize].push(p);
-                next.next();
-            }
-            _ => residue.push(p),
+    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, &list, lines)) {
+        let p = picture_from_raster(c, r, h);
+        match per_line.get_mut(li as usize) {
+            Some(own) => own.push(p),
+            None => residue.push(p),
         }
     }
     (per_line, residue)
@@ -249,23 +278,25 @@ fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, V
 fn residue_pieces(residue: &[DVec2], w: u32, h: u32) -> Vec<Vec<DVec2>> {
     let (w, h) = (w as i64, h as i64);
     let cell = |p: DVec2| ((p.x - 0.5) as i64, (h as f64 - 0.5 - p.y) as i64);
-    let mut index = vec![u32::MAX; (w * h) as usize];
-    for (i, p) in residue.iter().enumerate() {
-        let (c, r) = cell(*p);
-        index[(r * w + c) as usize] = i as u32;
+    let cells: Vec<(i64, i64)> = residue.iter().map(|p| cell(*p)).collect();
+    // The residue comes in raster order; each row's cells are found by where the row starts.
+    let mut row_start = vec![0usize; h as usize + 1];
+    for &(_, r) in &cells {
+        row_start[r as usize + 1] += 1;
+    }
+    for r in 0..h as usize {
+        row_start[r + 1] += row_start[r];
     }
     let mut sets = UnionFind::new(residue.len());
-    for (i, p) in residue.iter().enumerate() {
-        let (c, r) = cell(*p);
-        for dr in -BRIDGE_PX..=BRIDGE_PX {
-            for dc in -BRIDGE_PX..=BRIDGE_PX {
-                let (cc, rr) = (c + dc, r + dr);
-                if cc >= 0 && rr >= 0 && cc < w && rr < h {
-                    let j = index[(rr * w + cc) as usize];
-                    if j != u32::MAX {
-                        sets.union(i, j as usize);
-                    }
+    for (i, &(c, r)) in cells.iter().enumerate() {
+        for rr in (r - BRIDGE_PX).max(0)..=(r + BRIDGE_PX).min(h - 1) {
+            let row = &cells[row_start[rr as usize]..row_start[rr as usize + 1]];
+            let from = row.partition_point(|&(cc, _)| cc < c - BRIDGE_PX);
+            for (k, &(cc, _)) in row.iter().enumerate().skip(from) {
+                if cc > c + BRIDGE_PX || cc >= w {
+                    break;
                 }
+                sets.union(i, row_start[rr as usize] + k);
             }
         }
     }
@@ -285,7 +316,7 @@ fn chord_of_curve(
     boxes: &[(DVec2, DVec2)],
 ) -> Option<(f64, Vec<usize>)> {
     let mut touched = Vec::new();
-    let mut sample = own.to_vec();
+    let mut near_ends = Vec::new();
     for end in [line.from_px, line.to_px] {
         let mut found = false;
         for (i, piece) in pieces.iter().enumerate() {
@@ -301,13 +332,17 @@ fn chord_of_curve(
             if near.len() >= 3 {
                 found = true;
                 touched.push(i);
-                sample.extend(near);
+                near_ends.extend(near);
             }
         }
         if !found {
             return None;
         }
     }
+    // The line's own pixels first, then the residue at its ends (copied only for the lines
+    // that reach residue at both ends, a few per picture).
+    let mut sample = own.to_vec();
+    sample.extend(near_ends);
     let (_, _, rms) = fit_circle(&sample)?;
     (rms <= MAX_CIRCLE_RMS_PX).then_some((rms, touched))
 }
@@ -524,7 +559,7 @@ mod tests {
                 rms_px: 0.0,
             };
             let mut seen = vec![0u32; (w * h) as usize];
-            band_pixels(&line, w, h, &mut |c, r| seen[(r * w + c) as usize] += 1);
+            band_pixels(&line, w, h, |c, r| seen[(r * w + c) as usize] += 1);
             for r in 0..h {
                 for c in 0..w {
                     let near =

@@ -344,7 +344,7 @@ struct VoteFrame {
 
 /// The `(column, row)` of every edge pixel (non-zero), row by row: found once and shared by
 /// the three directions' votes. Eight pixels are tested at a time, since most are not edges.
-fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
+pub(super) fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     let w = w as usize;
     if w == 0 {

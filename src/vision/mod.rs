@@ -3,7 +3,8 @@
 //!
 //! 1. [`sobel_magnitude`], [`smooth_3x3`], [`threshold`]: the Sobel operator of Chapter II
 //!    (eq. 2.1, Figure 2.7) with the 3x3 smoothing and the threshold of Chapter VI, giving a
-//!    binary edge map ([`EdgeOptions`], default threshold 80 as in the thesis).
+//!    binary edge map ([`EdgeOptions`], default threshold 80 as in the thesis); [`edge_map`]
+//!    computes the three in one pass over the picture.
 //! 2. [`fit_lines`]: straight segments along the three picture directions of block edges
 //!    ([`edge_directions`], from the camera: parallel, or through vanishing points), each fitted by least squares (Ch. VI).
 //!    [`drop_soft_edges`] drops lines along soft shading (a shadow's penumbra, read across
@@ -38,8 +39,8 @@ mod vertices;
 
 pub use curves::{add_curved_edges, find_curved_edges, fit_circle, residue_map, CurvedEdge};
 pub use edges::{
-    detect_edges, smooth_3x3, sobel_magnitude, threshold, threshold_hysteresis, EdgeOptions,
-    MagnitudeImage, SmoothWindow,
+    detect_edges, edge_map, smooth_3x3, sobel_magnitude, threshold, threshold_hysteresis,
+    EdgeOptions, MagnitudeImage, SmoothWindow,
 };
 pub use error::VisionError;
 pub use eval::{
@@ -96,12 +97,9 @@ pub struct Detection {
 /// [`detect_with_directions`] so benchmarks report the stage's own figures.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct VisionTimings {
-    /// Sobel magnitude (eq. 2.1).
-    pub sobel_ms: f64,
-    /// 3x3 smoothing (Chapter VI).
-    pub smooth_ms: f64,
-    /// Threshold (Chapter VI: 80).
-    pub threshold_ms: f64,
+    /// Step 1 in one pass ([`edge_map`]): Sobel magnitude (eq. 2.1), 3x3 smoothing and the
+    /// threshold (Chapter VI: 80).
+    pub edges_ms: f64,
     /// Line finding, least-squares fits and their refinement.
     pub lines_ms: f64,
     /// Vertices, six-bit codes and junction classes.
@@ -109,15 +107,9 @@ pub struct VisionTimings {
 }
 
 impl VisionTimings {
-    /// The five steps, in order.
-    pub fn steps_ms(&self) -> [f64; 5] {
-        [
-            self.sobel_ms,
-            self.smooth_ms,
-            self.threshold_ms,
-            self.lines_ms,
-            self.vertices_ms,
-        ]
+    /// The three steps, in order: edges, lines, vertices.
+    pub fn steps_ms(&self) -> [f64; 3] {
+        [self.edges_ms, self.lines_ms, self.vertices_ms]
     }
 }
 
@@ -159,9 +151,9 @@ pub fn detect_line_drawing(
     detect_line_drawing_with_progress(image, camera, opts, &|_, _| {})
 }
 
-/// The steps [`detect_line_drawing_with_progress`] reports: Sobel, smoothing, threshold,
-/// lines, vertices.
-pub const VISION_STEPS: u64 = 5;
+/// The steps [`detect_line_drawing_with_progress`] reports: edges (Sobel, smoothing and
+/// threshold in one pass), lines, vertices.
+pub const VISION_STEPS: u64 = 3;
 
 /// [`detect_line_drawing`] reporting `(done, VISION_STEPS)` after each step, so vision on a
 /// large picture, which takes seconds, can show progress (README "Exit codes and progress
@@ -249,25 +241,19 @@ fn ms_since(t: std::time::Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Step 1, each of its three parts counted.
+/// Step 1, counted.
 fn timed_edges(
     image: &GrayImage,
     opts: &VisionOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> (GrayImage, VisionTimings) {
-    let mut timings = VisionTimings::default();
     let t = std::time::Instant::now();
-    let magnitude = sobel_magnitude(image);
-    timings.sobel_ms = ms_since(t);
+    let edges = edge_map(image, &opts.edges);
+    let timings = VisionTimings {
+        edges_ms: ms_since(t),
+        ..Default::default()
+    };
     progress(1, VISION_STEPS);
-    let t = std::time::Instant::now();
-    let smoothed = smooth_3x3(&magnitude, opts.edges.window);
-    timings.smooth_ms = ms_since(t);
-    progress(2, VISION_STEPS);
-    let t = std::time::Instant::now();
-    let edges = threshold_hysteresis(&smoothed, opts.edges.threshold, opts.edges.weak_threshold);
-    timings.threshold_ms = ms_since(t);
-    progress(3, VISION_STEPS);
     (edges, timings)
 }
 
@@ -299,7 +285,7 @@ fn detect_from_edges(
     let (curves, lines) = find_curved_edges(&edges, &lines);
     let lines = bridge_free_ends(&lines, &opts.gaps);
     timings.lines_ms = ms_since(t);
-    progress(4, VISION_STEPS);
+    progress(2, VISION_STEPS);
     let t = std::time::Instant::now();
     let mut drawing = find_vertices(&lines, &opts.vertices);
     add_faint_edges(image, &mut drawing, directions, &opts.faint);
@@ -307,7 +293,7 @@ fn detect_from_edges(
         add_curved_edges(&mut drawing, &curves);
     }
     timings.vertices_ms = ms_since(t);
-    progress(5, VISION_STEPS);
+    progress(3, VISION_STEPS);
     Detection {
         edges,
         lines,

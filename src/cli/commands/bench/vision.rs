@@ -82,7 +82,7 @@ struct Tally {
     codes_equal: usize,
     angles: Vec<f64>,
     distances_px: Vec<f64>,
-    ms: [f64; 5],
+    ms: [f64; 3],
 }
 
 /// Runs `blockworld bench vision`.
@@ -137,9 +137,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.match_px
     )?;
     outln!(
-        "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}",
-        "family", "views", "truth", "found", "prec", "recall", "code", "vtx_px", "ang_mean", "ang_max",
-        "sobel", "smooth", "thresh", "lines", "verts", "total"
+        "{:<22} {:>5} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6}",
+        "family",
+        "views",
+        "truth",
+        "found",
+        "prec",
+        "recall",
+        "code",
+        "vtx_px",
+        "ang_mean",
+        "ang_max",
+        "edges",
+        "lines",
+        "verts",
+        "total"
     )?;
     for (name, t) in &families {
         print_row(name, t)?;
@@ -161,7 +173,7 @@ fn print_row(name: &str, t: &Tally) -> anyhow::Result<()> {
     let v = t.views.max(1) as f64;
     let ms: Vec<f64> = t.ms.iter().map(|x| x / v).collect();
     outln!(
-        "{:<22} {:>5} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>7.3} {:>8.3} {:>8.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3}",
+        "{:<22} {:>5} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>7.3} {:>8.3} {:>8.3} {:>6.3} {:>6.3} {:>6.3} {:>6.3}",
         name,
         t.views,
         t.truth,
@@ -175,8 +187,6 @@ fn print_row(name: &str, t: &Tally) -> anyhow::Result<()> {
         ms[0],
         ms[1],
         ms[2],
-        ms[3],
-        ms[4],
         ms.iter().sum::<f64>()
     )
 }
@@ -186,8 +196,8 @@ fn timed_steps(
     s: &Sample,
     opts: &VisionOptions,
     repeat: u32,
-) -> (LineDrawing, Vec<blockworld::vision::FittedLine>, [f64; 5]) {
-    let mut best = [f64::INFINITY; 5];
+) -> (LineDrawing, Vec<blockworld::vision::FittedLine>, [f64; 3]) {
+    let mut best = [f64::INFINITY; 3];
     let mut out = None;
     let dirs = edge_directions(&s.camera, &blockworld::drawing::EdgeAxis::BLOCK_AXES);
     for _ in 0..repeat.max(1) {
