@@ -81,6 +81,7 @@ pub fn sobel_magnitude(image: &GrayImage) -> MagnitudeImage {
 }
 
 /// Row `y` of [`sobel_magnitude`] of the `wu` x `hu` picture `src` into `row`.
+#[inline(always)]
 fn sobel_row(src: &[u8], wu: usize, hu: usize, y: usize, row: &mut [u16]) {
     let (ya, _, yb) = around(y, hu);
     let (ra, r, rb) = (
@@ -113,6 +114,26 @@ pub fn edge_map(image: &GrayImage, opts: &EdgeOptions) -> GrayImage {
         let smoothed = smooth_3x3(&sobel_magnitude(image), opts.window);
         return threshold_hysteresis(&smoothed, opts.threshold, opts.weak_threshold);
     }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { edge_map_avx2(image, opts) };
+    }
+    edge_map_rows(image, opts)
+}
+
+/// [`edge_map_rows`] compiled for AVX2 (sixteen 16-bit lanes instead of eight): the same
+/// integer and `f32` operations, so the same map, in about half the instructions. Chosen at
+/// run time, as OpenCV does, since the binary is built for baseline x86-64.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn edge_map_avx2(image: &GrayImage, opts: &EdgeOptions) -> GrayImage {
+    edge_map_rows(image, opts)
+}
+
+/// The one-pass [`edge_map`] without hysteresis.
+#[inline(always)]
+fn edge_map_rows(image: &GrayImage, opts: &EdgeOptions) -> GrayImage {
     let (w, h) = image.dimensions();
     let (wu, hu) = (w as usize, h as usize);
     let mut out = vec![0u8; wu * hu];
@@ -148,6 +169,7 @@ pub fn edge_map(image: &GrayImage, opts: &EdgeOptions) -> GrayImage {
 /// Eq. 2.1 on the interior pixels of one row (`out[i]` is pixel `i + 1`): the rows above, at and
 /// below as slices of equal length, indexed so the compiler drops the bounds checks and works
 /// on several pixels at once (the same values as [`sobel_at`], pixel by pixel).
+#[inline(always)]
 fn sobel_interior(above: &[u8], at: &[u8], below: &[u8], out: &mut [u16]) {
     let n = out.len();
     let (a0, a1, a2) = (&above[..n], &above[1..n + 1], &above[2..n + 2]);
@@ -228,6 +250,7 @@ pub fn smooth_3x3(magnitude: &MagnitudeImage, window: SmoothWindow) -> Magnitude
 
 /// The horizontal 3-sums of one row of magnitudes `r` into `dst` (at most 3 * 1443, fits u16),
 /// over the columns `window` names, edge pixels repeated.
+#[inline(always)]
 fn horizontal_sums(r: &[u16], dst: &mut [u16], window: SmoothWindow) {
     let wu = r.len();
     let at = |i: usize| r[i];

@@ -343,7 +343,8 @@ struct VoteFrame {
 }
 
 /// The `(column, row)` of every edge pixel (non-zero), row by row: found once and shared by
-/// the three directions' votes. Eight pixels are tested at a time, since most are not edges.
+/// the three directions' votes. Eight pixels are tested at a time, since most are not edges,
+/// and the non-zero bytes of a group are visited by their bits.
 pub(super) fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     let w = w as usize;
@@ -354,9 +355,16 @@ pub(super) fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
         let mut chunks = line.chunks_exact(8);
         let mut base = 0;
         for c in chunks.by_ref() {
-            if u64::from_ne_bytes(c.try_into().expect("eight bytes")) != 0 {
-                let hits = c.iter().enumerate().filter(|(_, &v)| v != 0);
-                out.extend(hits.map(|(i, _)| ((base + i) as u32, row as u32)));
+            let v = u64::from_le_bytes(c.try_into().expect("eight bytes"));
+            // The lowest bit of each byte set where the byte is non-zero.
+            let mut set = v | (v >> 4);
+            set |= set >> 2;
+            set |= set >> 1;
+            set &= 0x0101_0101_0101_0101;
+            while set != 0 {
+                let i = set.trailing_zeros() as usize / 8;
+                out.push(((base + i) as u32, row as u32));
+                set &= set - 1;
             }
             base += 8;
         }
@@ -750,14 +758,13 @@ pub fn refine_lines_on_seams(
     lines: &[FittedLine],
     _opts: &LineOptions,
 ) -> Vec<FittedLine> {
-    let mut samples: Vec<(f64, f64, DVec2)> = Vec::new();
     let mut pts: Vec<DVec2> = Vec::new();
     let mut weights: Vec<f64> = Vec::new();
     lines
         .iter()
         .map(|l| {
-            band_samples(gray, l, SEAM_SEARCH_PX, &mut samples);
-            refine_one(gray, l, &samples, &mut pts, &mut weights).unwrap_or(*l)
+            seam_pixels(gray, l, &mut pts, &mut weights);
+            refine_one(l, &pts, &weights).unwrap_or(*l)
         })
         .collect()
 }
@@ -785,15 +792,27 @@ pub(super) fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
     Some(f64::from(gray.as_raw()[row * w as usize + x as usize]))
 }
 
-/// Pixels within `reach` px of the line, between its ends: `(offset, gray, point)`.
-fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64, f64, DVec2)>) {
-    out.clear();
-    let (w, h) = gray.dimensions();
+/// The seam pixels of `l` (see [`refine_lines_on_seams`]): the pixels within
+/// `SEAM_SEARCH_PX` of the line, between its ends less a margin, darker by at least
+/// [`MIN_SEAM_CONTRAST`] than both pixels `SEAM_SIDE_PX` away across it, into `pts`, each with
+/// its weight (its darkness beyond three quarters of the contrast) in `weights`. A pixel centre
+/// `(x + 0.5, y + 0.5)` moved by a fixed offset lands in the pixel `x + floor(0.5 + offset)`,
+/// so the two side pixels are fixed raster steps from it, found once per line.
+fn seam_pixels(gray: &GrayImage, l: &FittedLine, pts: &mut Vec<DVec2>, weights: &mut Vec<f64>) {
+    pts.clear();
+    weights.clear();
+    let (w, h) = (i64::from(gray.width()), i64::from(gray.height()));
     let raw = gray.as_raw();
+    let level = |x: i64, y: i64| {
+        let inside = x >= 0 && y >= 0 && x < w && y < h;
+        inside.then(|| f64::from(raw[((h - 1 - y) * w + x) as usize]))
+    };
+    let n = l.direction.perp();
+    let side = |s: f64| (floor_i64(0.5 + n.x * s), floor_i64(0.5 + n.y * s));
+    let (ahead, behind) = (side(SEAM_SIDE_PX), side(-SEAM_SIDE_PX));
     // Keep clear of the ends, where other lines' seams cross the band.
     let margin = (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
     let (t0, t1) = (l.along_px(l.from_px) + margin, l.along_px(l.to_px) - margin);
-    let n = l.direction.perp();
     let steep = l.direction.y.abs() >= l.direction.x.abs();
     // Walk rows (steep lines) or columns (flat lines) between the ends.
     let (a, b) = (l.from_px, l.to_px);
@@ -807,7 +826,7 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
     } else {
         l.direction.x.abs()
     };
-    let half = (reach / slope_room.max(0.3)).ceil() as i64 + 1;
+    let half = (SEAM_SEARCH_PX / slope_room.max(0.3)).ceil() as i64 + 1;
     let mut s = floor_i64(lo);
     while (s as f64) <= hi.ceil() {
         let s_c = s as f64 + 0.5;
@@ -820,43 +839,31 @@ fn band_samples(gray: &GrayImage, l: &FittedLine, reach: f64, out: &mut Vec<(f64
         let o = floor_i64(other);
         for q in o - half..=o + half {
             let (x, y) = if steep { (q, s) } else { (s, q) };
-            if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
-                continue;
-            }
+            let Some(g) = level(x, y) else { continue };
             let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
             let t = l.along_px(p);
             let d = n.dot(p - l.centroid_px);
-            if d.abs() <= reach && t >= t0 && t <= t1 {
-                let row = h as i64 - 1 - y;
-                out.push((d, f64::from(raw[(row * i64::from(w) + x) as usize]), p));
+            if d.abs() > SEAM_SEARCH_PX || t < t0 || t > t1 {
+                continue;
+            }
+            let sides = (
+                level(x + ahead.0, y + ahead.1),
+                level(x + behind.0, y + behind.1),
+            );
+            let (Some(a), Some(b)) = sides else { continue };
+            let darkness = a.min(b) - g;
+            if darkness >= MIN_SEAM_CONTRAST {
+                pts.push(p);
+                // Only the darkness beyond most of the threshold counts: noise that barely
+                // passes the test weighs little next to a real seam.
+                weights.push(darkness - 0.75 * MIN_SEAM_CONTRAST);
             }
         }
         s += 1;
     }
 }
 
-fn refine_one(
-    gray: &GrayImage,
-    l: &FittedLine,
-    samples: &[(f64, f64, DVec2)],
-    pts: &mut Vec<DVec2>,
-    weights: &mut Vec<f64>,
-) -> Option<FittedLine> {
-    let n = l.direction.perp();
-    pts.clear();
-    weights.clear();
-    for &(_, g, p) in samples {
-        let a = gray_at(gray, p + n * SEAM_SIDE_PX);
-        let b = gray_at(gray, p - n * SEAM_SIDE_PX);
-        let (Some(a), Some(b)) = (a, b) else { continue };
-        let darkness = a.min(b) - g;
-        if darkness >= MIN_SEAM_CONTRAST {
-            pts.push(p);
-            // Only the darkness beyond most of the threshold counts: noise that barely passes
-            // the test weighs little next to a real seam.
-            weights.push(darkness - 0.75 * MIN_SEAM_CONTRAST);
-        }
-    }
+fn refine_one(l: &FittedLine, pts: &[DVec2], weights: &[f64]) -> Option<FittedLine> {
     // Seam pixels must cover at least half the line (counted along it, one per px).
     let sampled = l.length_px() - 2.0 * (0.25 * l.length_px()).min(SEAM_END_MARGIN_PX);
     if (distinct_along_px(l, pts) as f64) < 0.5 * sampled {
@@ -932,8 +939,11 @@ mod tests {
     #[test]
     fn edge_pixels_lists_every_nonzero_pixel_row_by_row_like_a_plain_scan() {
         let (w, h) = (21u32, 5u32);
+        // Any non-zero byte is an edge, whichever of its bits are set.
         let raw: Vec<u8> = (0..w * h)
-            .map(|i| u8::from(i % 7 == 0 || i % 11 == 3))
+            .map(|i| {
+                u8::from(i % 7 == 0 || i % 11 == 3) * [1, 255, 0x80, 0x10, 0x02][i as usize % 5]
+            })
             .collect();
         let plain: Vec<(u32, u32)> = (0..h)
             .flat_map(|r| (0..w).map(move |c| (c, r)))
