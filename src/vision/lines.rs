@@ -396,8 +396,8 @@ fn collect_votes(
     let mut votes = Vec::with_capacity(edge_px.len());
     let (wi, hi) = (i64::from(w), i64::from(h));
     for &(col, row) in edge_px {
-        let p = picture_from_raster(col, row, h);
         if let EdgeDirection::Vanishing(_) = frame.dir {
+            let p = picture_from_raster(col, row, h);
             n_steps = raster_steps(frame.dir.at(p), opts.reach_px, &mut steps);
         }
         let supported = match &linear {
@@ -413,6 +413,7 @@ fn collect_votes(
             ),
         };
         if supported {
+            let p = picture_from_raster(col, row, h);
             let (rho, t) = frame.dir.vote_coordinates(p, frame.axis, frame.radius);
             votes.push(Vote { rho, t, p });
         }
