@@ -20,7 +20,7 @@
 //! Block scenes leave only small blobs at junctions in the residue, so their drawings are
 //! unchanged.
 
-use super::lines::{edge_pixels, fit_line_least_squares, picture_from_raster, FittedLine};
+use super::lines::{fit_line_least_squares, picture_from_raster, EdgeList, FittedLine};
 use crate::drawing::LineDrawing;
 use crate::geom::{bounds2, DMat3, DVec2, DVec3, UnionFind};
 use image::GrayImage;
@@ -74,7 +74,16 @@ pub fn find_curved_edges(
     edges: &GrayImage,
     lines: &[FittedLine],
 ) -> (Vec<CurvedEdge>, Vec<FittedLine>) {
-    let (per_line, residue) = assign_pixels(edges, lines);
+    find_curved_edges_on(edges, &EdgeList::new(edges), lines)
+}
+
+/// [`find_curved_edges`] with the edge pixels of `edges` already listed.
+pub(super) fn find_curved_edges_on(
+    edges: &GrayImage,
+    list: &EdgeList,
+    lines: &[FittedLine],
+) -> (Vec<CurvedEdge>, Vec<FittedLine>) {
+    let (per_line, residue) = assign_pixels(edges, list, lines);
     let mut groups = residue_pieces(&residue, edges.width(), edges.height());
     let boxes: Vec<(DVec2, DVec2)> = groups
         .iter()
@@ -131,29 +140,6 @@ fn distance_sq_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
 #[cfg(test)]
 fn distance_to_line_px(line: &FittedLine, p: DVec2) -> f64 {
     distance_sq_to_line_px(line, p).sqrt()
-}
-
-/// The edge pixels of a binary map in raster order, with where each row's pixels start, so a
-/// pixel's place in the list is found among its row's few edge pixels (no raster-sized table).
-struct EdgeList {
-    /// `(column, row)` of each edge pixel, row by row.
-    px: Vec<(u32, u32)>,
-    /// `px[row_start[r]..row_start[r + 1]]` are row `r`'s pixels.
-    row_start: Vec<u32>,
-}
-
-impl EdgeList {
-    fn new(edges: &GrayImage) -> EdgeList {
-        let px = edge_pixels(edges.as_raw(), edges.width());
-        let mut row_start = vec![0u32; edges.height() as usize + 1];
-        for &(_, r) in &px {
-            row_start[r as usize + 1] += 1;
-        }
-        for r in 0..edges.height() as usize {
-            row_start[r + 1] += row_start[r];
-        }
-        EdgeList { px, row_start }
-    }
 }
 
 /// For every edge pixel of `list` (in its order), the line within [`NEAR_LINE_PX`] nearest to
@@ -222,10 +208,18 @@ fn band_columns(line: &FittedLine, y: f64) -> Option<(i64, i64)> {
 /// the straight lines found so far leave unexplained (a wedge's sloped edges, curves, blobs at
 /// junctions).
 pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
+    residue_map_on(edges, &EdgeList::new(edges), lines)
+}
+
+/// [`residue_map`] with the edge pixels of `edges` already listed.
+pub(super) fn residue_map_on(
+    edges: &GrayImage,
+    list: &EdgeList,
+    lines: &[FittedLine],
+) -> GrayImage {
     let mut out = edges.clone();
     let w = edges.width() as usize;
-    let list = EdgeList::new(edges);
-    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, &list, lines)) {
+    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, list, lines)) {
         if li != u32::MAX {
             out.as_mut()[r as usize * w + c as usize] = 0;
         }
@@ -235,12 +229,15 @@ pub fn residue_map(edges: &GrayImage, lines: &[FittedLine]) -> GrayImage {
 
 /// The edge pixels (picture px) of each line (those within [`NEAR_LINE_PX`] of it, each to its
 /// nearest line) and the residue, the pixels near no line.
-fn assign_pixels(edges: &GrayImage, lines: &[FittedLine]) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
+fn assign_pixels(
+    edges: &GrayImage,
+    list: &EdgeList,
+    lines: &[FittedLine],
+) -> (Vec<Vec<DVec2>>, Vec<DVec2>) {
     let h = edges.height();
-    let list = EdgeList::new(edges);
     let mut per_line = vec![Vec::new(); lines.len()];
     let mut residue = Vec::new();
-    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, &list, lines)) {
+    for (&(c, r), li) in list.px.iter().zip(nearest_lines(edges, list, lines)) {
         let p = picture_from_raster(c, r, h);
         match per_line.get_mut(li as usize) {
             Some(own) => own.push(p),

@@ -304,9 +304,20 @@ pub fn fit_lines(
     directions: &[(EdgeAxis, EdgeDirection)],
     opts: &LineOptions,
 ) -> Vec<FittedLine> {
+    fit_lines_on(edges, &EdgeList::new(edges), directions, opts)
+}
+
+/// [`fit_lines`] with the edge pixels of `edges` already listed (the front end lists them once
+/// for the lines and the curves).
+pub(super) fn fit_lines_on(
+    edges: &GrayImage,
+    list: &EdgeList,
+    directions: &[(EdgeAxis, EdgeDirection)],
+    opts: &LineOptions,
+) -> Vec<FittedLine> {
     let (w, h) = edges.dimensions();
     let raw = edges.as_raw();
-    let edge_px = edge_pixels(raw, w);
+    let edge_px = &list.px;
     let mut lines = Vec::new();
     for (k, dir) in directions.iter() {
         let ok = match *dir {
@@ -329,7 +340,7 @@ pub fn fit_lines(
             axis,
             radius,
         };
-        let votes = collect_votes(raw, &edge_px, w, h, &frame, opts);
+        let votes = collect_votes(raw, edge_px, w, h, &frame, opts);
         lines.extend(lines_from_votes(votes, *k, &frame, opts));
     }
     lines
@@ -342,10 +353,35 @@ struct VoteFrame {
     radius: f64,
 }
 
+/// The edge pixels of a binary map in raster order, with where each row's pixels start, so the
+/// pixels near a line are found among its rows' few edge pixels (no raster-sized table). Listed
+/// once per picture and shared by the line finder and the curve step.
+pub(super) struct EdgeList {
+    /// `(column, row)` of each edge pixel, row by row.
+    pub(super) px: Vec<(u32, u32)>,
+    /// `px[row_start[r]..row_start[r + 1]]` are row `r`'s pixels.
+    pub(super) row_start: Vec<u32>,
+}
+
+impl EdgeList {
+    /// The edge pixels (non-zero) of `edges`.
+    pub(super) fn new(edges: &GrayImage) -> EdgeList {
+        let px = edge_pixels(edges.as_raw(), edges.width());
+        let mut row_start = vec![0u32; edges.height() as usize + 1];
+        for &(_, r) in &px {
+            row_start[r as usize + 1] += 1;
+        }
+        for r in 0..edges.height() as usize {
+            row_start[r + 1] += row_start[r];
+        }
+        EdgeList { px, row_start }
+    }
+}
+
 /// The `(column, row)` of every edge pixel (non-zero), row by row: found once and shared by
 /// the three directions' votes. Eight pixels are tested at a time, since most are not edges,
 /// and the non-zero bytes of a group are visited by their bits.
-pub(super) fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
+fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     let w = w as usize;
     if w == 0 {
@@ -356,6 +392,10 @@ pub(super) fn edge_pixels(raw: &[u8], w: u32) -> Vec<(u32, u32)> {
         let mut base = 0;
         for c in chunks.by_ref() {
             let v = u64::from_le_bytes(c.try_into().expect("eight bytes"));
+            if v == 0 {
+                base += 8;
+                continue;
+            }
             // The lowest bit of each byte set where the byte is non-zero.
             let mut set = v | (v >> 4);
             set |= set >> 2;

@@ -270,9 +270,10 @@ fn detect_from_edges(
     let (axes, others): (Vec<_>, Vec<_>) = directions
         .iter()
         .partition(|(k, _)| EdgeAxis::BLOCK_AXES.contains(k));
-    let mut lines = fit_lines(&edges, &axes, &opts.lines);
+    let list = lines::EdgeList::new(&edges);
+    let mut lines = lines::fit_lines_on(&edges, &list, &axes, &opts.lines);
     if !others.is_empty() {
-        let residue = residue_map(&edges, &lines);
+        let residue = curves::residue_map_on(&edges, &list, &lines);
         let sloped = fit_lines(&residue, &others, &opts.lines);
         lines.extend(
             sloped
@@ -282,7 +283,7 @@ fn detect_from_edges(
     }
     let lines = refine_lines_on_seams(image, &lines, &opts.lines);
     let lines = drop_soft_edges(image, &lines);
-    let (curves, lines) = find_curved_edges(&edges, &lines);
+    let (curves, lines) = curves::find_curved_edges_on(&edges, &list, &lines);
     let lines = bridge_free_ends(&lines, &opts.gaps);
     timings.lines_ms = ms_since(t);
     progress(2, VISION_STEPS);
