@@ -867,7 +867,9 @@ fn seam_pixels(gray: &GrayImage, l: &FittedLine, pts: &mut Vec<DVec2>, weights: 
     } else {
         l.direction.x.abs()
     };
-    let half = (SEAM_SEARCH_PX / slope_room.max(0.3)).ceil() as i64 + 1;
+    // Pixel centres `q + 0.5` within SEAM_SEARCH_PX of the line lie within this many px of its
+    // crossing along the row/column; one more on each side for rounding.
+    let reach_q = SEAM_SEARCH_PX / slope_room.max(0.3);
     let mut s = floor_i64(lo);
     while (s as f64) <= hi.ceil() {
         let s_c = s as f64 + 0.5;
@@ -877,16 +879,15 @@ fn seam_pixels(gray: &GrayImage, l: &FittedLine, pts: &mut Vec<DVec2>, weights: 
         } else {
             l.centroid_px.y + (s_c - l.centroid_px.x) * l.direction.y / l.direction.x
         };
-        let o = floor_i64(other);
-        for q in o - half..=o + half {
+        for q in floor_i64(other - reach_q - 0.5)..=floor_i64(other + reach_q - 0.5) + 1 {
             let (x, y) = if steep { (q, s) } else { (s, q) };
-            let Some(g) = level(x, y) else { continue };
             let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
             let t = l.along_px(p);
             let d = n.dot(p - l.centroid_px);
             if d.abs() > SEAM_SEARCH_PX || t < t0 || t > t1 {
                 continue;
             }
+            let Some(g) = level(x, y) else { continue };
             let sides = (
                 level(x + ahead.0, y + ahead.1),
                 level(x + behind.0, y + behind.1),
