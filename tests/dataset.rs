@@ -10,18 +10,12 @@
 //! variants render the four views and skip loudly when no adapter (or no renderer yet) exists,
 //! unless `BLOCKWORLD_REQUIRE_GPU` is set.
 
+mod common;
+use common::blockworld;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn blockworld(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env_remove("JOB_COMPLETION_INDEX")
-        .output()
-        .expect("runs the binary")
-}
 
 fn ok(out: Output) -> String {
     assert!(

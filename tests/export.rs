@@ -2,13 +2,15 @@
 //! by `gltf::Gltf::from_slice`, and compared with the scene and the block catalog (node poses,
 //! mesh bounds, triangle counts, enclosed volumes); the `blockworld export` command.
 
+mod common;
+use common::blockworld;
+
 use blockworld::export::{scene_to_glb, scene_to_gltf_json};
 use blockworld::geom::DVec3;
 use blockworld::scene::{block_type, read_scene, Block, Orientation, Scene};
 use glam::DQuat;
 use gltf::buffer::Source;
 use std::path::Path;
-use std::process::Command;
 
 const THESIS_SAMPLE: &str = "scenes/thesis_sample.json";
 
@@ -233,13 +235,6 @@ fn same_scene_gives_the_same_bytes() {
         scene_to_glb(&turned).unwrap(),
         scene_to_glb(&scene).unwrap()
     );
-}
-
-fn blockworld(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 #[test]

@@ -6,17 +6,13 @@
 //! Needs the renderer (it generates a small rendered dataset); skips loudly without one unless
 //! `BLOCKWORLD_REQUIRE_GPU` is set.
 
+mod common;
+use common::blockworld;
+
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn blockworld(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .expect("runs the binary")
-}
+use std::process::Output;
 
 fn ok(out: Output) -> String {
     assert!(

@@ -3,16 +3,10 @@
 //! failure that once passed with a panic, `null` in the output or a misleading message.
 
 mod common;
+use common::blockworld;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-
-fn blockworld(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn scene(name: &str) -> String {
     common::root()

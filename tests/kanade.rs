@@ -2,6 +2,9 @@
 //! (`tests/fixtures/kanade/paip_*.json`, every count the book states), and the true labelling
 //! of exactly drawn scenes (`render::truth`) found among the labeller's labellings.
 
+mod common;
+use common::blockworld;
+
 use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
@@ -854,13 +857,6 @@ fn the_gradient_check_keeps_the_true_labels_and_refuses_a_crack_between_faces() 
 // ---------------------------------------------------------------------------------------------
 // The command line
 // ---------------------------------------------------------------------------------------------
-
-fn blockworld(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 #[test]
 fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {

@@ -2,16 +2,10 @@
 //! write, what they print, their determinism, and their errors.
 
 mod common;
+use common::blockworld;
 
 use std::path::Path;
 use std::process::Command;
-
-fn blockworld(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn file_names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

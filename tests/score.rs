@@ -1,15 +1,11 @@
 //! `blockworld score` end to end (README "Scoring and the accuracy suite"): files in, table or JSON out, clear errors that name
 //! the file. The exactness of the volumes is tested beside the code (`src/score/tests.rs`).
 
+mod common;
+use common::blockworld;
+
 use std::path::Path;
 use std::process::Command;
-
-fn blockworld(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let p = dir.join(name);

@@ -3,20 +3,13 @@
 //! and the viewer's errors (exit 2, a message naming the fix, no output file).
 
 mod common;
+use common::blockworld;
 
 use blockworld::export::{
     parse_thesis_files, thesis_model_to_scene, ThesisFormatError, Truncation,
 };
 use blockworld::scene::read_scene;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn blockworld(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn fixture(name: &str) -> String {
     let p = common::root().join("tests/fixtures").join(name);

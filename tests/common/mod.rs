@@ -23,6 +23,18 @@ pub fn renderer() -> Option<Renderer> {
     }
 }
 
+/// Runs the `blockworld` binary built for these tests with `args` and returns its output. The
+/// scale-out variables a Slurm or Kubernetes job would set are removed, so a test run inside
+/// such a job still runs the commands as a single worker would.
+pub fn blockworld(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        .args(args)
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .expect("runs the blockworld binary")
+}
+
 /// The repository root.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
