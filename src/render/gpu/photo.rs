@@ -51,8 +51,10 @@ pub struct PhotoUniforms {
 pub struct PhotoPass {
     shadow: wgpu::RenderPipeline,
     depth_prepass: wgpu::RenderPipeline,
+    depth_prepass_behind: wgpu::RenderPipeline,
     radiance: wgpu::RenderPipeline,
     unshadowed: wgpu::RenderPipeline,
+    unshadowed_behind: wgpu::RenderPipeline,
     uniforms: wgpu::Buffer,
     shadow_bind_group: wgpu::BindGroup,
     photo_bind_group: wgpu::BindGroup,
@@ -104,12 +106,7 @@ impl Gpu {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encode_photo_passes(
-            &mut encoder,
-            pass,
-            mesh.shadowed_vertices as u32,
-            mesh.vertices.len() as u32,
-        );
+        encode_photo_passes(&mut encoder, pass, mesh);
         self.queue.submit([encoder.finish()]);
         let t = pass.targets.as_ref().expect("just created");
         let result = self.read_radiance(t);
@@ -282,19 +279,41 @@ impl Gpu {
             ],
         });
         PhotoPass {
-            shadow: photo_pipeline(device, &module, &shadow_bgl, PhotoStage::Shadow),
-            depth_prepass: photo_pipeline(device, &module, &photo_bgl, PhotoStage::DepthPrepass),
+            shadow: photo_pipeline(device, &module, &shadow_bgl, PhotoStage::Shadow, false),
+            depth_prepass: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::DepthPrepass,
+                false,
+            ),
+            depth_prepass_behind: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::DepthPrepass,
+                true,
+            ),
             radiance: photo_pipeline(
                 device,
                 &module,
                 &photo_bgl,
                 PhotoStage::Radiance("fs_photo"),
+                false,
             ),
             unshadowed: photo_pipeline(
                 device,
                 &module,
                 &photo_bgl,
                 PhotoStage::Radiance("fs_photo_unshadowed"),
+                false,
+            ),
+            unshadowed_behind: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::Radiance("fs_photo_unshadowed"),
+                true,
             ),
             uniforms,
             shadow_bind_group,
@@ -360,12 +379,23 @@ enum PhotoStage {
     Radiance(&'static str),
 }
 
-/// The pipeline of one [`PhotoStage`].
+/// Depth bias of the whole faces drawn behind their shadowed part
+/// (`render::photo::mesh::PhotoMesh`): 16 steps of the depth format at the triangle's depth
+/// plus a twentieth of a pixel's depth change, far more than the part's own rounding
+/// (vertices snap to 1/256 px) and far less than the 0.05 mm bevel between two faces.
+const BEHIND_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
+    constant: 16,
+    slope_scale: 0.05,
+    clamp: 0.0,
+};
+
+/// The pipeline of one [`PhotoStage`]; `behind`: with [`BEHIND_BIAS`].
 fn photo_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     bgl: &wgpu::BindGroupLayout,
     stage: PhotoStage,
+    behind: bool,
 ) -> wgpu::RenderPipeline {
     let fragment = match stage {
         PhotoStage::Radiance(entry) => Some(entry),
@@ -421,7 +451,11 @@ fn photo_pipeline(
                 wgpu::CompareFunction::Equal
             }),
             stencil: Default::default(),
-            bias: Default::default(),
+            bias: if behind {
+                BEHIND_BIAS
+            } else {
+                Default::default()
+            },
         }),
         multisample: Default::default(),
         fragment: fragment.map(|entry| wgpu::FragmentState {
@@ -435,15 +469,13 @@ fn photo_pipeline(
     })
 }
 
-/// The shadow pass, the depth pre-pass, the radiance pass (the first `shadowed` vertices with
-/// the shadow test, the rest of the `vertex_count` without) and the copy of the radiance into
-/// the readback buffer.
-fn encode_photo_passes(
-    encoder: &mut wgpu::CommandEncoder,
-    pass: &PhotoPass,
-    shadowed: u32,
-    vertex_count: u32,
-) {
+/// The shadow pass, the depth pre-pass, the radiance pass (the mesh's shadowed vertices with
+/// the shadow test, the rest without, the last `behind` of them with [`BEHIND_BIAS`]) and the
+/// copy of the radiance into the readback buffer.
+fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mesh: &PhotoMesh) {
+    let vertex_count = mesh.vertices.len() as u32;
+    let shadowed = mesh.shadowed_vertices as u32;
+    let behind = vertex_count - mesh.behind_vertices as u32;
     let t = pass.targets.as_ref().expect("created before encoding");
     let vbuf = pass.vertices.as_ref().expect("created before encoding");
     let depth = |view, load| {
@@ -476,10 +508,12 @@ fn encode_photo_passes(
             depth_stencil_attachment: depth(&t.depth_view, clear),
             ..Default::default()
         });
-        rp.set_pipeline(&pass.depth_prepass);
         rp.set_bind_group(0, &pass.photo_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
-        rp.draw(0..vertex_count, 0..1);
+        rp.set_pipeline(&pass.depth_prepass);
+        rp.draw(0..behind, 0..1);
+        rp.set_pipeline(&pass.depth_prepass_behind);
+        rp.draw(behind..vertex_count, 0..1);
     }
     {
         let colors = [Some(wgpu::RenderPassColorAttachment {
@@ -502,7 +536,9 @@ fn encode_photo_passes(
         rp.set_pipeline(&pass.radiance);
         rp.draw(0..shadowed, 0..1);
         rp.set_pipeline(&pass.unshadowed);
-        rp.draw(shadowed..vertex_count, 0..1);
+        rp.draw(shadowed..behind, 0..1);
+        rp.set_pipeline(&pass.unshadowed_behind);
+        rp.draw(behind..vertex_count, 0..1);
     }
     encoder.copy_texture_to_buffer(
         t.radiance.as_image_copy(),
