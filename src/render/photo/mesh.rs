@@ -152,9 +152,9 @@ pub const OUTER_FLOOR_DROP_MM: f64 = 0.1;
 /// lies within the reach, across the light, of another block's part in front of its plane
 /// ([`shadow_reach`]; blocks whose box misses the face's box grown by the reach and swept
 /// towards the light are skipped at once; a bevel strip or corner is shadowed whole when
-/// another block's box meets its own so grown and swept), and the floor only inside the convex
-/// hull of the blocks' boxes, grown by the reach and cast along the light onto the floor; the
-/// whole floor square lies [`OUTER_FLOOR_DROP_MM`] lower with the rest.
+/// another block's box meets its own so grown and swept), and the floor only within the reach,
+/// across the light, of the blocks ([`shadow_reach`] of the floor square); the whole floor
+/// square lies [`OUTER_FLOOR_DROP_MM`] lower with the rest.
 pub fn photo_mesh(
     scene: &Scene,
     camera: &Camera,
@@ -233,11 +233,13 @@ pub fn photo_mesh(
     for sheet in &contacts.sheets {
         push_polygon(&mut rest, &sheet.corners, sheet.outward, 0.0);
     }
-    let shadowed_floor = clip_convex(
-        &floor_under_shadows(&boxes, towards_light, reach_mm),
-        &floor_corners(camera, 0.0),
-        DVec3::Y,
-    );
+    let floor = floor_corners(camera, 0.0);
+    let every_solid: Vec<&[DVec3]> = solids.iter().map(Vec::as_slice).collect();
+    let reached: Vec<DVec3> = shadow_reach(&floor, DVec3::Y, &frame, &every_solid, reach_mm)
+        .iter()
+        .map(|q| frame.onto_plane(*q, floor[0], DVec3::Y))
+        .collect();
+    let shadowed_floor = clip_convex(&floor, &reached, DVec3::Y);
     push_polygon(&mut shadowed, &shadowed_floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
     let lowered = floor_corners(camera, -OUTER_FLOOR_DROP_MM);
     push_polygon(&mut rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
@@ -382,40 +384,6 @@ fn swept_box_meets((lo, hi): (DVec3, DVec3), dir: DVec3, (olo, ohi): (DVec3, DVe
         }
     }
     true
-}
-
-/// The floor polygon (y = 0, counter-clockwise seen from above) that a shadow can reach: the
-/// convex hull of the corners of every block's box grown by `reach_mm`, cast along the light
-/// onto the floor.
-fn floor_under_shadows(
-    boxes: &[(DVec3, DVec3)],
-    towards_light: DVec3,
-    reach_mm: f64,
-) -> Vec<DVec3> {
-    let along = towards_light.normalize_or(DVec3::Y);
-    let cast: Vec<glam::DVec2> = boxes
-        .iter()
-        .flat_map(|b| {
-            let (lo, hi) = grow_box(*b, reach_mm);
-            (0..8).map(move |k| {
-                let p = DVec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                );
-                let on_floor = p - along * (p.y / along.y.max(1e-6));
-                glam::DVec2::new(on_floor.x, on_floor.z)
-            })
-        })
-        .collect();
-    let hull = crate::geom::convex_hull(&cast);
-    if hull.len() < 3 {
-        return Vec::new();
-    }
-    sort_around(
-        hull.iter().map(|p| DVec3::new(p.x, 0.0, p.y)).collect(),
-        DVec3::Y,
-    )
 }
 
 /// Triangles of every block (cracked and bevelled) and of the black crack sheets.
