@@ -35,7 +35,9 @@ struct VertexIn {
 };
 
 struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the depth pre-pass and the radiance pass (depth test Equal) must compute the
+    // same depth for the same vertex.
+    @invariant @builtin(position) clip: vec4<f32>,
     @location(0) world_mm: vec3<f32>,
     @location(1) @interpolate(flat) albedo: f32,
     @location(2) @interpolate(flat) normal: vec3<f32>,

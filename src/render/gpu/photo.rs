@@ -1,6 +1,10 @@
 //! The GPU half of the photographic look (README "Photographic look"): the pipelines of
-//! `shaders/photo.wgsl`, a key-light shadow map pass and the radiance pass (linear radiance in
-//! an `R32Float` target, read back for the sensor model of `render::photo::sensor`).
+//! `shaders/photo.wgsl`, a key-light shadow map pass, a depth pre-pass of the picture and the
+//! radiance pass (linear radiance in an `R32Float` target, read back for the sensor model of
+//! `render::photo::sensor`). The pre-pass lets the radiance pass shade each pixel once, only
+//! with the surface that shows there: lavapipe shades every covered pixel of a triangle that
+//! passes the depth test, so without it the soft shadow test also ran on the floor and faces
+//! that nearer blocks hide.
 //!
 //! Created on first use, so line-art rendering never builds them.
 
@@ -46,8 +50,11 @@ pub struct PhotoUniforms {
 /// Pipelines, shadow map and cached targets of the photo look; one per renderer.
 pub struct PhotoPass {
     shadow: wgpu::RenderPipeline,
+    depth_prepass: wgpu::RenderPipeline,
+    depth_prepass_behind: wgpu::RenderPipeline,
     radiance: wgpu::RenderPipeline,
     unshadowed: wgpu::RenderPipeline,
+    unshadowed_behind: wgpu::RenderPipeline,
     uniforms: wgpu::Buffer,
     shadow_bind_group: wgpu::BindGroup,
     photo_bind_group: wgpu::BindGroup,
@@ -99,12 +106,7 @@ impl Gpu {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encode_photo_passes(
-            &mut encoder,
-            pass,
-            mesh.shadowed_vertices as u32,
-            mesh.vertices.len() as u32,
-        );
+        encode_photo_passes(&mut encoder, pass, mesh);
         self.queue.submit([encoder.finish()]);
         let t = pass.targets.as_ref().expect("just created");
         let result = self.read_radiance(t);
@@ -277,9 +279,42 @@ impl Gpu {
             ],
         });
         PhotoPass {
-            shadow: photo_pipeline(device, &module, &shadow_bgl, None),
-            radiance: photo_pipeline(device, &module, &photo_bgl, Some("fs_photo")),
-            unshadowed: photo_pipeline(device, &module, &photo_bgl, Some("fs_photo_unshadowed")),
+            shadow: photo_pipeline(device, &module, &shadow_bgl, PhotoStage::Shadow, false),
+            depth_prepass: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::DepthPrepass,
+                false,
+            ),
+            depth_prepass_behind: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::DepthPrepass,
+                true,
+            ),
+            radiance: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::Radiance("fs_photo"),
+                false,
+            ),
+            unshadowed: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::Radiance("fs_photo_unshadowed"),
+                false,
+            ),
+            unshadowed_behind: photo_pipeline(
+                device,
+                &module,
+                &photo_bgl,
+                PhotoStage::Radiance("fs_photo_unshadowed"),
+                true,
+            ),
             uniforms,
             shadow_bind_group,
             photo_bind_group,
@@ -332,14 +367,41 @@ fn bind_group_layouts(device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::Bi
     (shadow, photo)
 }
 
-/// The shadow pipeline (`fragment` None: depth only, front faces culled so a lit face compares
-/// against its own block's far side, never itself) or the radiance pipeline.
+/// The passes of one photo view, in their order.
+#[derive(Debug, Clone, Copy)]
+enum PhotoStage {
+    /// Depth from the key light only, front faces culled so a lit face compares against its
+    /// own block's far side, never itself.
+    Shadow,
+    /// Depth of the picture only (`vs_photo`, back faces culled).
+    DepthPrepass,
+    /// Radiance with this fragment entry point, where the pre-pass's depth is equal.
+    Radiance(&'static str),
+}
+
+/// Depth bias of the whole faces drawn behind their shadowed part
+/// (`render::photo::mesh::PhotoMesh`): 16 steps of the depth format at the triangle's depth
+/// plus a twentieth of a pixel's depth change, far more than the part's own rounding
+/// (vertices snap to 1/256 px) and far less than the 0.05 mm bevel between two faces.
+const BEHIND_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
+    constant: 16,
+    slope_scale: 0.05,
+    clamp: 0.0,
+};
+
+/// The pipeline of one [`PhotoStage`]; `behind`: with [`BEHIND_BIAS`].
 fn photo_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     bgl: &wgpu::BindGroupLayout,
-    fragment: Option<&str>,
+    stage: PhotoStage,
+    behind: bool,
 ) -> wgpu::RenderPipeline {
+    let fragment = match stage {
+        PhotoStage::Radiance(entry) => Some(entry),
+        PhotoStage::Shadow | PhotoStage::DepthPrepass => None,
+    };
+    let from_light = matches!(stage, PhotoStage::Shadow);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("photo"),
         bind_group_layouts: &[Some(bgl)],
@@ -352,15 +414,15 @@ fn photo_pipeline(
         write_mask: wgpu::ColorWrites::ALL,
     })];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(fragment.unwrap_or("vs_shadow")),
+        label: Some(match stage {
+            PhotoStage::Shadow => "photo shadow map",
+            PhotoStage::DepthPrepass => "photo depth pre-pass",
+            PhotoStage::Radiance(entry) => entry,
+        }),
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some(if fragment.is_some() {
-                "vs_photo"
-            } else {
-                "vs_shadow"
-            }),
+            entry_point: Some(if from_light { "vs_shadow" } else { "vs_photo" }),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<PhotoVertex>() as u64,
@@ -371,19 +433,29 @@ fn photo_pipeline(
         primitive: wgpu::PrimitiveState {
             topology: wgpu::PrimitiveTopology::TriangleList,
             front_face: wgpu::FrontFace::Ccw,
-            cull_mode: Some(if fragment.is_some() {
-                wgpu::Face::Back
-            } else {
+            cull_mode: Some(if from_light {
                 wgpu::Face::Front
+            } else {
+                wgpu::Face::Back
             }),
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
+            // The radiance pass draws where the pre-pass found the nearest surface (the same
+            // vertex shader, its position `@invariant`), so it needs no depth writes.
+            depth_write_enabled: Some(fragment.is_none()),
+            depth_compare: Some(if fragment.is_none() {
+                wgpu::CompareFunction::Less
+            } else {
+                wgpu::CompareFunction::Equal
+            }),
             stencil: Default::default(),
-            bias: Default::default(),
+            bias: if behind {
+                BEHIND_BIAS
+            } else {
+                Default::default()
+            },
         }),
         multisample: Default::default(),
         fragment: fragment.map(|entry| wgpu::FragmentState {
@@ -397,37 +469,51 @@ fn photo_pipeline(
     })
 }
 
-/// The shadow pass, the radiance pass (the first `shadowed` vertices with the shadow test, the
-/// rest of the `vertex_count` without) and the copy of the radiance into the readback buffer.
-fn encode_photo_passes(
-    encoder: &mut wgpu::CommandEncoder,
-    pass: &PhotoPass,
-    shadowed: u32,
-    vertex_count: u32,
-) {
+/// The shadow pass, the depth pre-pass, the radiance pass (the mesh's shadowed vertices with
+/// the shadow test, the rest without, the last `behind` of them with [`BEHIND_BIAS`]) and the
+/// copy of the radiance into the readback buffer.
+fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mesh: &PhotoMesh) {
+    let vertex_count = mesh.vertices.len() as u32;
+    let shadowed = mesh.shadowed_vertices as u32;
+    let behind = vertex_count - mesh.behind_vertices as u32;
     let t = pass.targets.as_ref().expect("created before encoding");
     let vbuf = pass.vertices.as_ref().expect("created before encoding");
-    let depth = |view| {
+    let depth = |view, load| {
         Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load,
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
         })
     };
+    let clear = wgpu::LoadOp::Clear(1.0);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow map"),
             color_attachments: &[],
-            depth_stencil_attachment: depth(&pass.shadow_view),
+            depth_stencil_attachment: depth(&pass.shadow_view, clear),
             ..Default::default()
         });
         rp.set_pipeline(&pass.shadow);
         rp.set_bind_group(0, &pass.shadow_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
         rp.draw(0..vertex_count, 0..1);
+    }
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("photo depth pre-pass"),
+            color_attachments: &[],
+            depth_stencil_attachment: depth(&t.depth_view, clear),
+            ..Default::default()
+        });
+        rp.set_bind_group(0, &pass.photo_bind_group, &[]);
+        rp.set_vertex_buffer(0, vbuf.slice(..));
+        rp.set_pipeline(&pass.depth_prepass);
+        rp.draw(0..behind, 0..1);
+        rp.set_pipeline(&pass.depth_prepass_behind);
+        rp.draw(behind..vertex_count, 0..1);
     }
     {
         let colors = [Some(wgpu::RenderPassColorAttachment {
@@ -442,7 +528,7 @@ fn encode_photo_passes(
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("radiance"),
             color_attachments: &colors,
-            depth_stencil_attachment: depth(&t.depth_view),
+            depth_stencil_attachment: depth(&t.depth_view, wgpu::LoadOp::Load),
             ..Default::default()
         });
         rp.set_bind_group(0, &pass.photo_bind_group, &[]);
@@ -450,7 +536,9 @@ fn encode_photo_passes(
         rp.set_pipeline(&pass.radiance);
         rp.draw(0..shadowed, 0..1);
         rp.set_pipeline(&pass.unshadowed);
-        rp.draw(shadowed..vertex_count, 0..1);
+        rp.draw(shadowed..behind, 0..1);
+        rp.set_pipeline(&pass.unshadowed_behind);
+        rp.draw(behind..vertex_count, 0..1);
     }
     encoder.copy_texture_to_buffer(
         t.radiance.as_image_copy(),

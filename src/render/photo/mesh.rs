@@ -125,14 +125,18 @@ pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<Ph
 /// triangles the key light's soft shadow can reach, then the rest, which the renderer shades
 /// without the shadow test (the same radiance: their light share is 1, or it does not matter).
 /// The rest are the faces turned away from the light (ambient only), the black crack sheets,
-/// block faces no other block comes near on the light's side, and the floor away from every
-/// block's shadow ([`photo_mesh`]).
+/// the parts of block faces no other block comes near on the light's side, and the floor away
+/// from every block's shadow ([`photo_mesh`]). A face only part of which a shadow can reach
+/// is drawn twice: that part with the shadow test, and the whole face without it, last and
+/// a hair behind (the renderer's depth bias), so it shows only where the part does not.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhotoMesh {
-    /// Triangles, the shadowed ones first.
+    /// Triangles: the shadowed ones, the rest, then the whole faces drawn behind their parts.
     pub vertices: Vec<PhotoVertex>,
     /// How many of `vertices`, from the start, need the shadow test.
     pub shadowed_vertices: usize,
+    /// How many of `vertices`, at the end, are whole faces drawn behind their shadowed part.
+    pub behind_vertices: usize,
 }
 
 /// Drop of the floor drawn without the shadow test below the floor drawn with it, mm: the two
@@ -143,10 +147,14 @@ pub const OUTER_FLOOR_DROP_MM: f64 = 0.1;
 /// The photo look's render mesh ([`PhotoMesh`]) lit from `towards_light` (elevation at least
 /// 10 degrees): a point can be in shadow only when some other block comes within `reach_mm`
 /// of the light's path from it, across the light (the shader's blocker search radius plus a
-/// margin). So a light-facing block face needs the shadow test only when another block's box
-/// meets its own box, grown by the reach and swept towards the light, and the floor only
-/// inside the convex hull of the blocks' boxes, grown by the reach and cast along the light
-/// onto the floor; the whole floor square lies [`OUTER_FLOOR_DROP_MM`] lower with the rest.
+/// margin), on the light's side of the point's face plane (the shader compares each tap with
+/// the receiver's plane). So a light-facing block face needs the shadow test only where it
+/// lies within the reach, across the light, of another block's part in front of its plane
+/// ([`shadow_reach`]; blocks whose box misses the face's box grown by the reach and swept
+/// towards the light are skipped at once; a bevel strip or corner is shadowed whole when
+/// another block's box meets its own so grown and swept), and the floor only within the reach,
+/// across the light, of the blocks ([`shadow_reach`] of the floor square); the whole floor
+/// square lies [`OUTER_FLOOR_DROP_MM`] lower with the rest.
 pub fn photo_mesh(
     scene: &Scene,
     camera: &Camera,
@@ -154,29 +162,14 @@ pub fn photo_mesh(
     towards_light: DVec3,
     reach_mm: f64,
 ) -> PhotoMesh {
-    let light = towards_light.as_vec3();
+    let frame = LightFrame::new(towards_light);
     let boxes: Vec<(DVec3, DVec3)> = scene
         .blocks
         .iter()
         .map(|b| crate::geom::bounds3(b.world_vertices()).unwrap_or_default())
         .collect();
-    let (mut shadowed, mut rest) = (Vec::new(), Vec::new());
-    let mut push =
-        |corners: &[DVec3], outward: DVec3, albedo: f64, occluders: &[(DVec3, DVec3)]| {
-            let mut tris = Vec::new();
-            push_polygon(&mut tris, corners, outward, albedo);
-            let reachable =
-                albedo > 0.0 && may_be_shadowed(corners, towards_light, reach_mm, occluders);
-            for t in tris.chunks_exact(3) {
-                let facing = glam::Vec3::from_array(t[0].normal).dot(light) > 0.0;
-                let out = if reachable && facing {
-                    &mut shadowed
-                } else {
-                    &mut rest
-                };
-                out.extend_from_slice(t);
-            }
-        };
+    let solids: Vec<Vec<DVec3>> = scene.blocks.iter().map(|b| b.world_vertices()).collect();
+    let (mut shadowed, mut rest, mut behind) = (Vec::new(), Vec::new(), Vec::new());
     let contacts = find_contacts(scene);
     for (i, ((block, albedo), touching)) in scene
         .blocks
@@ -186,35 +179,167 @@ pub fn photo_mesh(
         .enumerate()
     {
         let grown = grow_box(boxes[i], reach_mm);
-        let occluders: Vec<(DVec3, DVec3)> = (0..boxes.len())
+        let near: Vec<usize> = (0..boxes.len())
             .filter(|&j| j != i && swept_box_meets(grown, towards_light, boxes[j]))
-            .map(|j| boxes[j])
             .collect();
         let retract_mm: Vec<f64> = touching
             .iter()
             .map(|t| if *t { CRACK_MM / 2.0 } else { 0.0 })
             .collect();
-        for polygon in bevelled_block(block, BEVEL_MM, &retract_mm) {
-            push(&polygon.corners, polygon.outward, *albedo, &occluders);
+        let near_boxes: Vec<(DVec3, DVec3)> = near.iter().map(|&j| boxes[j]).collect();
+        // The first polygons are the block's faces, one per catalog face (`bevelled_block`).
+        for (k, polygon) in bevelled_block(block, BEVEL_MM, &retract_mm)
+            .iter()
+            .enumerate()
+        {
+            let (corners, outward) = (&polygon.corners, polygon.outward);
+            let reachable = outward.dot(towards_light) > 0.0
+                && may_be_shadowed(corners, towards_light, reach_mm, &near_boxes);
+            if !reachable {
+                push_polygon(&mut rest, corners, outward, *albedo);
+                continue;
+            }
+            if k >= retract_mm.len() {
+                // A bevel strip or corner, a twentieth of a millimetre wide: whole.
+                push_polygon(&mut shadowed, corners, outward, *albedo);
+                continue;
+            }
+            let occluders: Vec<&[DVec3]> = near
+                .iter()
+                .filter(|&&j| may_be_shadowed(corners, towards_light, reach_mm, &[boxes[j]]))
+                .map(|&j| solids[j].as_slice())
+                .collect();
+            let reached = shadow_reach(corners, outward, &frame, &occluders, reach_mm);
+            if reached.is_empty() {
+                push_polygon(&mut rest, corners, outward, *albedo);
+                continue;
+            }
+            let lifted: Vec<DVec3> = reached
+                .iter()
+                .map(|q| frame.onto_plane(*q, corners[0], outward))
+                .collect();
+            let part = clip_convex(corners, &lifted, outward);
+            let (part_mm2, whole_mm2) = (polygon_area(&part), polygon_area(corners));
+            if part_mm2 <= 1e-9 * whole_mm2 {
+                push_polygon(&mut rest, corners, outward, *albedo);
+            } else if part_mm2 >= (1.0 - 1e-9) * whole_mm2 {
+                push_polygon(&mut shadowed, corners, outward, *albedo);
+            } else {
+                push_polygon(&mut shadowed, &part, outward, *albedo);
+                push_polygon(&mut behind, corners, outward, *albedo);
+            }
         }
     }
     for sheet in &contacts.sheets {
-        push(&sheet.corners, sheet.outward, 0.0, &[]);
+        push_polygon(&mut rest, &sheet.corners, sheet.outward, 0.0);
     }
-    let shadowed_floor = clip_convex(
-        &floor_under_shadows(&boxes, towards_light, reach_mm),
-        &floor_corners(camera, 0.0),
-        DVec3::Y,
-    );
+    let floor = floor_corners(camera, 0.0);
+    let every_solid: Vec<&[DVec3]> = solids.iter().map(Vec::as_slice).collect();
+    let reached: Vec<DVec3> = shadow_reach(&floor, DVec3::Y, &frame, &every_solid, reach_mm)
+        .iter()
+        .map(|q| frame.onto_plane(*q, floor[0], DVec3::Y))
+        .collect();
+    let shadowed_floor = clip_convex(&floor, &reached, DVec3::Y);
     push_polygon(&mut shadowed, &shadowed_floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
     let lowered = floor_corners(camera, -OUTER_FLOOR_DROP_MM);
     push_polygon(&mut rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
-    let shadowed_vertices = shadowed.len();
+    let (shadowed_vertices, behind_vertices) = (shadowed.len(), behind.len());
     shadowed.extend(rest);
+    shadowed.extend(behind);
     PhotoMesh {
         vertices: shadowed,
         shadowed_vertices,
+        behind_vertices,
     }
+}
+
+/// How far in front of a face's plane a point of another block must lie to count as an
+/// occluder in [`shadow_reach`], mm. The shader's blockers lie in front of the plane through
+/// the receiver moved out along its normal by 1.5 shadow-map texels, so at least a tenth of a
+/// texel (the texel the tap reads may lie 1.4 texels from the tap) in front of the face: far
+/// more than this. A block whose face is flush with the receiver's plane does not count.
+const OCCLUDER_FRONT_MM: f64 = 1e-4;
+
+/// Coordinates across the key light: `u` and `v` span the plane normal to `along` (the unit
+/// vector towards the light), `u x v = along`, so a polygon counter-clockwise seen from the
+/// light stays counter-clockwise in `(u, v)`.
+#[derive(Debug, Clone, Copy)]
+struct LightFrame {
+    along: DVec3,
+    u: DVec3,
+    v: DVec3,
+}
+
+impl LightFrame {
+    fn new(towards_light: DVec3) -> LightFrame {
+        let along = towards_light.normalize_or(DVec3::Y);
+        let u = along.any_orthonormal_vector();
+        LightFrame {
+            along,
+            u,
+            v: along.cross(u),
+        }
+    }
+
+    /// `p` across the light, mm.
+    fn across(&self, p: DVec3) -> glam::DVec2 {
+        glam::DVec2::new(p.dot(self.u), p.dot(self.v))
+    }
+
+    /// The point of the plane through `on_plane` with normal `normal` (not across the light)
+    /// that lies at `q` across the light.
+    fn onto_plane(&self, q: glam::DVec2, on_plane: DVec3, normal: DVec3) -> DVec3 {
+        let p = self.u * q.x + self.v * q.y;
+        p + self.along * (normal.dot(on_plane - p) / normal.dot(self.along))
+    }
+}
+
+/// The convex region, across the light ([`LightFrame`]), where the soft shadow test on the
+/// light-facing face `corners` (outward normal `outward`) can find a blocker: within
+/// `reach_mm` of the part of some `occluders` solid (convex, given by its corners) that lies
+/// in front of the face's plane (the solid clipped by the plane: its corners in front, and
+/// where the segments between corners cross the plane). Empty when no solid reaches in front;
+/// the hull of all of them otherwise (a 16-gon around each point, circumscribing the reach).
+fn shadow_reach(
+    corners: &[DVec3],
+    outward: DVec3,
+    frame: &LightFrame,
+    occluders: &[&[DVec3]],
+    reach_mm: f64,
+) -> Vec<glam::DVec2> {
+    let outward = outward.normalize_or_zero();
+    let mut front = Vec::new();
+    for solid in occluders {
+        let height: Vec<f64> = solid
+            .iter()
+            .map(|p| outward.dot(*p - corners[0]) - OCCLUDER_FRONT_MM)
+            .collect();
+        for (i, (p, hp)) in solid.iter().zip(&height).enumerate() {
+            if *hp > 0.0 {
+                front.push(frame.across(*p));
+            }
+            for (q, hq) in solid.iter().zip(&height).skip(i + 1) {
+                if (*hp > 0.0) != (*hq > 0.0) {
+                    front.push(frame.across(*p + (*q - *p) * (hp / (hp - hq))));
+                }
+            }
+        }
+    }
+    if front.is_empty() {
+        return Vec::new();
+    }
+    const SIDES: usize = 16;
+    let radius = reach_mm / (std::f64::consts::PI / SIDES as f64).cos();
+    let grown: Vec<glam::DVec2> = crate::geom::convex_hull(&front)
+        .iter()
+        .flat_map(|c| {
+            (0..SIDES).map(move |k| {
+                let a = std::f64::consts::TAU * k as f64 / SIDES as f64;
+                *c + glam::DVec2::new(a.cos(), a.sin()) * radius
+            })
+        })
+        .collect();
+    crate::geom::convex_hull(&grown)
 }
 
 /// The box `(lo, hi)` grown by `mm` on every side.
@@ -259,40 +384,6 @@ fn swept_box_meets((lo, hi): (DVec3, DVec3), dir: DVec3, (olo, ohi): (DVec3, DVe
         }
     }
     true
-}
-
-/// The floor polygon (y = 0, counter-clockwise seen from above) that a shadow can reach: the
-/// convex hull of the corners of every block's box grown by `reach_mm`, cast along the light
-/// onto the floor.
-fn floor_under_shadows(
-    boxes: &[(DVec3, DVec3)],
-    towards_light: DVec3,
-    reach_mm: f64,
-) -> Vec<DVec3> {
-    let along = towards_light.normalize_or(DVec3::Y);
-    let cast: Vec<glam::DVec2> = boxes
-        .iter()
-        .flat_map(|b| {
-            let (lo, hi) = grow_box(*b, reach_mm);
-            (0..8).map(move |k| {
-                let p = DVec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                );
-                let on_floor = p - along * (p.y / along.y.max(1e-6));
-                glam::DVec2::new(on_floor.x, on_floor.z)
-            })
-        })
-        .collect();
-    let hull = crate::geom::convex_hull(&cast);
-    if hull.len() < 3 {
-        return Vec::new();
-    }
-    sort_around(
-        hull.iter().map(|p| DVec3::new(p.x, 0.0, p.y)).collect(),
-        DVec3::Y,
-    )
 }
 
 /// Triangles of every block (cracked and bevelled) and of the black crack sheets.
@@ -762,6 +853,7 @@ mod tests {
         let all = photo_vertices(&lone, &cam, &[0.9]);
         let blocks = |v: &[PhotoVertex]| v.iter().filter(|v| v.albedo != 0.15).count();
         assert_eq!(blocks(&m.vertices), blocks(&all));
+        assert_eq!(m.behind_vertices, 0);
         // A cube on top of another, shifted towards the light: the lower one's top faces it.
         let shift = DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
         let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
@@ -778,5 +870,90 @@ mod tests {
         assert!(rest
             .iter()
             .any(|v| v.position_mm[1] == -OUTER_FLOOR_DROP_MM as f32));
+    }
+
+    #[test]
+    fn a_face_partly_within_reach_is_split_and_drawn_whole_behind() {
+        let cam = Camera::frame(
+            &cube().world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let light = key_light(&cam, 0.0, 1).towards_light;
+        // A cube on top of another, shifted away from the light: the lower top's half on the
+        // light's side is lit beyond 3 mm from the upper block.
+        let shift = -DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
+        let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
+        let stack = Scene::new("s", vec![cube(), upper]);
+        let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 3.0);
+        let lower_top = |t: &&[PhotoVertex]| t[0].albedo == 0.9 && t[0].normal[1] > 0.99;
+        let top_area = |v: &[PhotoVertex]| -> f64 {
+            v.chunks_exact(3)
+                .filter(lower_top)
+                .map(|t| {
+                    let p = t.iter().map(|v| DVec3::from(v.position_mm.map(f64::from)));
+                    polygon_area(&p.collect::<Vec<_>>())
+                })
+                .sum()
+        };
+        let behind = &m.vertices[m.vertices.len() - m.behind_vertices..];
+        let shadowed = &m.vertices[..m.shadowed_vertices];
+        let (part, whole) = (top_area(shadowed), top_area(behind));
+        // The lower top: its sides touch nothing, so only the bevel insets them.
+        let side = 15.0 - 2.0 * BEVEL_MM;
+        assert!((whole - side * side).abs() < 1e-3, "{whole}");
+        assert!(
+            part > 0.3 * whole && part < 0.9 * whole,
+            "{part} of {whole}"
+        );
+        // The whole top is drawn once behind, not also in front.
+        let front = &m.vertices[m.shadowed_vertices..m.vertices.len() - m.behind_vertices];
+        assert_eq!(top_area(front), 0.0);
+        // With the reach of the shader, the whole top is within reach: shadowed, drawn once.
+        let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
+        assert!((top_area(&m.vertices[..m.shadowed_vertices]) - side * side).abs() < 1e-3);
+        assert_eq!(top_area(&m.vertices[m.shadowed_vertices..]), 0.0);
+    }
+
+    #[test]
+    fn a_neighbour_flush_with_a_face_casts_no_shadow_on_it() {
+        // Two cubes side by side, touching: each top is flush with the other's, so neither top
+        // needs the shadow test, though each block's box, grown by the reach, meets the
+        // other's.
+        let cam = Camera::frame(
+            &cube().world_vertices(),
+            CornerView::Ne,
+            &CameraOptions::default(),
+        );
+        let light = key_light(&cam, 0.0, 1).towards_light;
+        let beside = Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0);
+        let row = Scene::new("r", vec![cube(), beside]);
+        let m = photo_mesh(&row, &cam, &[0.9, 0.8], light, 9.0);
+        let shadowed = &m.vertices[..m.shadowed_vertices];
+        assert!(
+            !shadowed
+                .iter()
+                .any(|v| v.albedo != PHOTO_FLOOR_ALBEDO as f32 && v.normal[1] > 0.99),
+            "a top face got the shadow test"
+        );
+        // The reach test itself: a solid flush with the face reaches nothing; lifted a
+        // millimetre above it, it reaches the face.
+        let frame = LightFrame::new(light);
+        let top = [
+            DVec3::new(-7.5, 15.0, -7.5),
+            DVec3::new(-7.5, 15.0, 7.5),
+            DVec3::new(7.5, 15.0, 7.5),
+            DVec3::new(7.5, 15.0, -7.5),
+        ];
+        let flush = beside.world_vertices();
+        assert!(shadow_reach(&top, DVec3::Y, &frame, &[&flush], 9.0).is_empty());
+        let lifted: Vec<DVec3> = flush.iter().map(|p| *p + DVec3::Y).collect();
+        let reached = shadow_reach(&top, DVec3::Y, &frame, &[&lifted], 9.0);
+        let near = frame.across(DVec3::new(7.0, 15.0, 0.0));
+        assert!(crate::geom::inside_convex(&reached, near, 0.0));
+        // Lifted back onto the top's plane, a point of the region stays where it was across
+        // the light.
+        let on_top = frame.onto_plane(near, top[0], DVec3::Y);
+        assert!((on_top - DVec3::new(7.0, 15.0, 0.0)).length() < 1e-9);
     }
 }
