@@ -8,9 +8,13 @@
 //! cost of lavapipe (waking its rasterizer threads, the fence, the map) is paid once per scene,
 //! not once per view (README "Benchmarks").
 //!
-//! Without MSAA one pass writes all three targets (gray `R8Unorm`, depth and ids `R16Uint`).
-//! With MSAA 4 the gray picture is drawn multisampled and resolved, and a second single-sampled
-//! pass draws the ground truth, so depth and ids are never blended.
+//! Without MSAA one pass writes two targets: the gray level (`R8Uint`) and the ground truth,
+//! depth and block id packed in one 32-bit word (`R32Uint`, depth in the high half). Two
+//! targets instead of three spare lavapipe a third color store per pixel, a third clear and a
+//! third copy (README "Peer ratios"); the readback splits the word while it drops the row
+//! padding, so the frames are those of separate targets. With MSAA 4 the gray picture is drawn
+//! multisampled (`R8Unorm`, resolving averages) and resolved, and a second single-sampled pass
+//! draws the ground truth, so depth and ids are never blended.
 
 pub mod mesh;
 pub mod photo;
@@ -22,8 +26,12 @@ use std::sync::{Arc, Mutex};
 /// The shader source, compiled in so an edited shader triggers a rebuild.
 const SCENE_WGSL: &str = include_str!("../../../shaders/scene.wgsl");
 
-const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Uint;
+/// The single-sampled pass's gray picture: the level as an integer.
+const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+/// The multisampled gray picture and its resolve target (resolving averages normalized values).
+const GRAY_MSAA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+/// The ground truth: `depth << 16 | block id` (`truth_of` in `shaders/scene.wgsl`).
+const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// How many differently sized target sets stay cached.
@@ -112,7 +120,8 @@ struct Pipelines {
     truth: wgpu::RenderPipeline,
 }
 
-/// Bytes per row of each readback region, padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+/// Bytes per row of each readback region (the gray picture, then the packed ground truth),
+/// padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ReadbackLayout {
     gray_row: u32,
@@ -125,18 +134,15 @@ impl ReadbackLayout {
         let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         ReadbackLayout {
             gray_row: w.div_ceil(align) * align,
-            truth_row: (2 * w).div_ceil(align) * align,
+            truth_row: (4 * w).div_ceil(align) * align,
             height: h,
         }
     }
-    fn depth_offset(&self) -> u64 {
+    fn truth_offset(&self) -> u64 {
         self.gray_row as u64 * self.height as u64
     }
-    fn ids_offset(&self) -> u64 {
-        self.depth_offset() + self.truth_row as u64 * self.height as u64
-    }
     fn total(&self) -> u64 {
-        self.ids_offset() + self.truth_row as u64 * self.height as u64
+        self.truth_offset() + self.truth_row as u64 * self.height as u64
     }
 }
 
@@ -144,12 +150,12 @@ impl ReadbackLayout {
 struct Targets {
     size: [u32; 2],
     msaa: u32,
+    /// The gray picture ([`GRAY_FORMAT`], or the resolve target in [`GRAY_MSAA_FORMAT`]).
     gray: wgpu::Texture,
     gray_view: wgpu::TextureView,
-    depth: wgpu::Texture,
-    depth_view: wgpu::TextureView,
-    ids: wgpu::Texture,
-    ids_view: wgpu::TextureView,
+    /// Depth and block ids packed ([`TRUTH_FORMAT`]).
+    truth: wgpu::Texture,
+    truth_view: wgpu::TextureView,
     depth_buffer_view: wgpu::TextureView,
     /// Multisampled gray and depth buffer (MSAA 4 only).
     msaa_views: Option<(wgpu::TextureView, wgpu::TextureView)>,
@@ -440,12 +446,16 @@ impl Gpu {
         };
         let readable = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let (gray, gray_view) = texture("gray", GRAY_FORMAT, 1, readable);
-        let (depth, depth_view) = texture("depth", TRUTH_FORMAT, 1, readable);
-        let (ids, ids_view) = texture("ids", TRUTH_FORMAT, 1, readable);
+        let gray_format = if msaa > 1 {
+            GRAY_MSAA_FORMAT
+        } else {
+            GRAY_FORMAT
+        };
+        let (gray, gray_view) = texture("gray", gray_format, 1, readable);
+        let (truth, truth_view) = texture("depth and ids", TRUTH_FORMAT, 1, readable);
         let (_, depth_buffer_view) = texture("depth buffer", DEPTH_FORMAT, 1, attachment);
         let msaa_views = (msaa > 1).then(|| {
-            let (_, c) = texture("gray msaa", GRAY_FORMAT, msaa, attachment);
+            let (_, c) = texture("gray msaa", GRAY_MSAA_FORMAT, msaa, attachment);
             let (_, d) = texture("depth buffer msaa", DEPTH_FORMAT, msaa, attachment);
             (c, d)
         });
@@ -455,10 +465,8 @@ impl Gpu {
             msaa,
             gray,
             gray_view,
-            depth,
-            depth_view,
-            ids,
-            ids_view,
+            truth,
+            truth_view,
             depth_buffer_view,
             msaa_views,
             readbacks: Vec::new(),
@@ -476,9 +484,15 @@ impl Gpu {
         runs: &[(std::ops::Range<u32>, SeamLines)],
         uniform_offset: u32,
     ) {
-        let background = f64::from(super::BACKGROUND_LEVEL) / 255.0;
+        // The background level: an integer in the integer target, normalized in the
+        // multisampled one.
+        let background = f64::from(super::BACKGROUND_LEVEL);
         let clear_gray = wgpu::Color {
-            r: background,
+            r: if t.msaa_views.is_some() {
+                background / 255.0
+            } else {
+                background
+            },
             g: 0.0,
             b: 0.0,
             a: 1.0,
@@ -529,8 +543,7 @@ impl Gpu {
                 self.pipelines.all.by_variant(),
                 &[
                     Some(gray_target(&t.gray_view, None)),
-                    Some(truth_target(&t.depth_view)),
-                    Some(truth_target(&t.ids_view)),
+                    Some(truth_target(&t.truth_view)),
                 ],
                 &t.depth_buffer_view,
             ),
@@ -542,10 +555,7 @@ impl Gpu {
                 );
                 pass(
                     [&self.pipelines.truth; 3],
-                    &[
-                        Some(truth_target(&t.depth_view)),
-                        Some(truth_target(&t.ids_view)),
-                    ],
+                    &[Some(truth_target(&t.truth_view))],
                     &t.depth_buffer_view,
                 );
             }
@@ -593,7 +603,7 @@ fn frames_per_submission(readback_bytes: u64) -> usize {
     (fit as usize).clamp(1, MAX_FRAMES_PER_SUBMISSION)
 }
 
-/// Copies the three targets into `readback`, rows padded to 256 bytes.
+/// Copies the two targets into `readback`, rows padded to 256 bytes.
 fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &wgpu::Buffer) {
     let l = &t.layout;
     let extent = wgpu::Extent3d {
@@ -603,8 +613,7 @@ fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &w
     };
     for (texture, offset, row) in [
         (&t.gray, 0, l.gray_row),
-        (&t.depth, l.depth_offset(), l.truth_row),
-        (&t.ids, l.ids_offset(), l.truth_row),
+        (&t.truth, l.truth_offset(), l.truth_row),
     ] {
         encoder.copy_texture_to_buffer(
             texture.as_image_copy(),
@@ -621,7 +630,8 @@ fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &w
     }
 }
 
-/// Drops the row padding: tight `w * h` images, rows top to bottom.
+/// Drops the row padding and splits the packed ground truth into depth (high 16 bits) and ids
+/// (low 16 bits) in the same pass: tight `w * h` images, rows top to bottom.
 fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
     let (w, h) = (w as usize, h as usize);
     let mut gray = Vec::with_capacity(w * h);
@@ -629,26 +639,29 @@ fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
         let start = r * l.gray_row as usize;
         gray.extend_from_slice(&bytes[start..start + w]);
     }
-    let read16 = |offset: u64| {
-        let mut out = Vec::with_capacity(w * h);
-        for r in 0..h {
-            let start = offset as usize + r * l.truth_row as usize;
-            let row = &bytes[start..start + 2 * w];
-            match bytemuck::try_cast_slice::<u8, u16>(row) {
-                Ok(values) => out.extend_from_slice(values),
-                Err(_) => out.extend(
-                    row.chunks_exact(2)
-                        .map(|c| u16::from_ne_bytes([c[0], c[1]])),
-                ),
-            }
+    let mut depth = Vec::with_capacity(w * h);
+    let mut ids = Vec::with_capacity(w * h);
+    for r in 0..h {
+        let start = l.truth_offset() as usize + r * l.truth_row as usize;
+        let row = &bytes[start..start + 4 * w];
+        match bytemuck::try_cast_slice::<u8, u32>(row) {
+            Ok(words) => split_truth(words.iter().copied(), &mut depth, &mut ids),
+            Err(_) => split_truth(
+                row.chunks_exact(4)
+                    .map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])),
+                &mut depth,
+                &mut ids,
+            ),
         }
-        out
-    };
-    Frame {
-        gray,
-        depth: read16(l.depth_offset()),
-        ids: read16(l.ids_offset()),
     }
+    Frame { gray, depth, ids }
+}
+
+/// Packed ground-truth words (`depth << 16 | id`) split onto the ends of `depth` and `ids`, each
+/// in its own pass so both vectorize.
+fn split_truth(words: impl Iterator<Item = u32> + Clone, depth: &mut Vec<u16>, ids: &mut Vec<u16>) {
+    depth.extend(words.clone().map(|v| (v >> 16) as u16));
+    ids.extend(words.map(|v| v as u16));
 }
 
 fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::BindGroup) {
@@ -692,16 +705,18 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
         bind_group_layouts: &[Some(&bgl)],
         immediate_size: 0,
     });
-    let gray = Some(wgpu::ColorTargetState {
-        format: GRAY_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
-    let truth = Some(wgpu::ColorTargetState {
-        format: TRUTH_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    let (gray, gray_msaa, truth) = (
+        target(GRAY_FORMAT),
+        target(GRAY_MSAA_FORMAT),
+        target(TRUTH_FORMAT),
+    );
     let make = |entries: [&str; 2], targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
         create_pipeline(device, &module, &layout, entries, targets, samples)
     };
@@ -720,9 +735,9 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
             eight: make(["vs_main", fragment], targets, samples),
         };
     let pipelines = Pipelines {
-        all: variants("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
-        gray_msaa4: variants("fs_gray", &[gray], 4),
-        truth: make(["vs_main", "fs_truth"], &[truth.clone(), truth], 1),
+        all: variants("fs_all", &[gray, truth.clone()], 1),
+        gray_msaa4: variants("fs_gray", &[gray_msaa], 4),
+        truth: make(["vs_main", "fs_truth"], &[truth], 1),
     };
     (pipelines, uniforms, bind_group)
 }
@@ -793,11 +808,12 @@ mod tests {
     #[test]
     fn readback_rows_are_padded_to_256_bytes() {
         let l = ReadbackLayout::new([500, 3]);
-        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
-        assert_eq!(l.depth_offset(), 512 * 3);
-        assert_eq!(l.total(), 512 * 3 + 2 * 1024 * 3);
+        assert_eq!((l.gray_row, l.truth_row), (512, 2048));
+        assert_eq!(l.truth_offset(), 512 * 3);
+        assert_eq!(l.total(), 512 * 3 + 2048 * 3);
         let l = ReadbackLayout::new([512, 480]);
-        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
+        assert_eq!((l.gray_row, l.truth_row), (512, 2048));
+        assert_eq!(l.total(), 5 * 512 * 480, "5 bytes per pixel, no padding");
     }
 
     #[test]
@@ -816,16 +832,21 @@ mod tests {
     }
 
     #[test]
-    fn unpad_drops_padding() {
+    fn unpad_drops_padding_and_splits_depth_from_ids() {
         let l = ReadbackLayout::new([3, 2]);
         let mut bytes = vec![0u8; l.total() as usize];
         bytes[..3].copy_from_slice(&[1, 2, 3]);
         bytes[256..259].copy_from_slice(&[4, 5, 6]);
-        let d = l.depth_offset() as usize;
-        bytes[d..d + 2].copy_from_slice(&7u16.to_ne_bytes());
+        let t = l.truth_offset() as usize;
+        let word = |depth: u32, id: u32| ((depth << 16) | id).to_ne_bytes();
+        bytes[t..t + 4].copy_from_slice(&word(7, 0));
+        bytes[t + 8..t + 12].copy_from_slice(&word(65535, 65535));
+        // The second row starts after the padding (256 bytes), not after three words.
+        bytes[t + 256..t + 260].copy_from_slice(&word(1, 2));
+        bytes[t + 12..t + 16].copy_from_slice(&word(9, 9));
         let f = unpad(&bytes, [3, 2], &l);
         assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
-        assert_eq!(f.depth[0], 7);
-        assert_eq!(f.ids, vec![0; 6]);
+        assert_eq!(f.depth, vec![7, 0, 65535, 1, 0, 0]);
+        assert_eq!(f.ids, vec![0, 0, 65535, 2, 0, 0]);
     }
 }
