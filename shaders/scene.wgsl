@@ -237,6 +237,33 @@ fn fs_all_no_lines(in: NoLinesOut) -> AllOut {
     return out;
 }
 
+// The whole pixel in one 32-bit word, for scenes of at most 255 blocks: depth (1/16 mm) in the
+// high 16 bits, the gray level in bits 8..15, block index + 1 in the low 8 bits. One target
+// instead of two: lavapipe then stores, clears and copies one (src/render/gpu/mod.rs splits
+// the word into the three pictures).
+fn pixel_of(depth_mm: f32, shade: vec2<u32>, gray: u32) -> u32 {
+    return (depth_of(depth_mm) << 16u) | (gray << 8u) | (shade.y & 0xffu);
+}
+
+// fs_all in one word (pixel_of).
+@fragment
+fn fs_pixel(in: VertexOut) -> @location(0) u32 {
+    return pixel_of(in.depth_mm, in.shade, gray_level_u32(in.shade, is_seam(in)));
+}
+
+// fs_all_four_lines in one word.
+@fragment
+fn fs_pixel_four_lines(in: FourLinesOut) -> @location(0) u32 {
+    let gray = gray_level_u32(in.shade, seam_of_four_lines_within(in));
+    return pixel_of(in.depth_mm, in.shade, gray);
+}
+
+// fs_all_no_lines in one word.
+@fragment
+fn fs_pixel_no_lines(in: NoLinesOut) -> @location(0) u32 {
+    return pixel_of(in.depth_mm, in.shade, in.shade.x);
+}
+
 // With MSAA: the picture alone (multisampled, then resolved).
 @fragment
 fn fs_gray(in: VertexOut) -> @location(0) vec4<f32> {

@@ -8,13 +8,16 @@
 //! cost of lavapipe (waking its rasterizer threads, the fence, the map) is paid once per scene,
 //! not once per view (README "Benchmarks").
 //!
-//! Without MSAA one pass writes two targets: the gray level (`R8Uint`) and the ground truth,
-//! depth and block id packed in one 32-bit word (`R32Uint`, depth in the high half). Two
-//! targets instead of three spare lavapipe a third color store per pixel, a third clear and a
-//! third copy (README "Peer ratios"); the readback splits the word while it drops the row
+//! Without MSAA one pass writes the whole pixel into ONE `R32Uint` target when every block id
+//! fits 8 bits (at most 255 blocks): depth in the high 16 bits, the gray level, the id
+//! ([`PixelLayout::Word`]); larger scenes get two targets, the gray level (`R8Uint`) and depth
+//! with a 16-bit id in one word ([`PixelLayout::GrayAndTruth`]). One target instead of the
+//! three separate pictures spares lavapipe two color stores per pixel, two clears and two
+//! copies (README "Peer ratios"); the readback splits the words while it drops the row
 //! padding, so the frames are those of separate targets. With MSAA 4 the gray picture is drawn
 //! multisampled (`R8Unorm`, resolving averages) and resolved, and a second single-sampled pass
-//! draws the ground truth, so depth and ids are never blended.
+//! draws the ground truth (`R32Uint`, as in the two-target layout), so depth and ids are never
+//! blended.
 
 pub mod mesh;
 pub mod photo;
@@ -30,8 +33,33 @@ const SCENE_WGSL: &str = include_str!("../../../shaders/scene.wgsl");
 const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 /// The multisampled gray picture and its resolve target (resolving averages normalized values).
 const GRAY_MSAA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-/// The ground truth: `depth << 16 | block id` (`truth_of` in `shaders/scene.wgsl`).
+/// The ground truth: `depth << 16 | block id` (`truth_of` in `shaders/scene.wgsl`), or the
+/// whole pixel `depth << 16 | gray << 8 | block id` (`pixel_of`).
 const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// Largest block id (index + 1) the one-word pixel holds.
+const MAX_WORD_BLOCK_ID: u32 = 0xff;
+
+/// How a single-sampled frame's pixels are laid out in its targets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PixelLayout {
+    /// One `R32Uint` target: `depth << 16 | gray << 8 | id` (ids up to [`MAX_WORD_BLOCK_ID`]).
+    Word,
+    /// The gray level in its own target and `depth << 16 | id` in the other (any id up to
+    /// 65535; also the layout of the multisampled frames' ground truth).
+    GrayAndTruth,
+}
+
+impl PixelLayout {
+    /// The layout for frames drawn with `msaa` samples whose largest block id is `max_id`.
+    fn of(msaa: u32, max_id: u32) -> PixelLayout {
+        if msaa == 1 && max_id <= MAX_WORD_BLOCK_ID {
+            PixelLayout::Word
+        } else {
+            PixelLayout::GrayAndTruth
+        }
+    }
+}
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// How many differently sized target sets stay cached.
@@ -112,7 +140,9 @@ fn variant_index(lines: SeamLines) -> usize {
 }
 
 struct Pipelines {
-    /// Single-sampled gray + depth + ids.
+    /// Single-sampled gray, depth and ids in one word ([`PixelLayout::Word`]).
+    word: SeamPipelines,
+    /// Single-sampled gray + depth and ids ([`PixelLayout::GrayAndTruth`]).
     all: SeamPipelines,
     /// Gray only, 4 samples.
     gray_msaa4: SeamPipelines,
@@ -318,18 +348,24 @@ impl Gpu {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        let max_id = requests
+            .iter()
+            .flat_map(|r| r.vertices.iter().map(|v| v.block_id))
+            .max()
+            .unwrap_or(0);
+        let layout = PixelLayout::of(msaa, max_id);
         for (i, (request, first)) in requests.iter().zip(firsts).enumerate() {
             let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
             let runs: Vec<_> = mesh::seam_line_runs(request.vertices)
                 .into_iter()
                 .map(|(r, lines)| (r.start + first..r.end + first, lines))
                 .collect();
-            self.encode_passes(&mut encoder, targets, vbuf, &runs, uniform_offset);
-            encode_readback(&mut encoder, targets, &targets.readbacks[i]);
+            self.encode_passes(&mut encoder, targets, layout, vbuf, &runs, uniform_offset);
+            encode_readback(&mut encoder, targets, layout, &targets.readbacks[i]);
         }
         self.queue.submit([encoder.finish()]);
         let submitted = started.elapsed();
-        let result = self.read_back(targets, requests.len());
+        let result = self.read_back(targets, layout, requests.len());
         tracing::debug!(
             frames = requests.len(),
             submit_ms = submitted.as_secs_f64() * 1e3,
@@ -480,6 +516,7 @@ impl Gpu {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         t: &Targets,
+        layout: PixelLayout,
         vbuf: &wgpu::Buffer,
         runs: &[(std::ops::Range<u32>, SeamLines)],
         uniform_offset: u32,
@@ -506,14 +543,19 @@ impl Gpu {
                 store: wgpu::StoreOp::Store,
             },
         };
-        let truth_target = |view| wgpu::RenderPassColorAttachment {
+        let truth_target = |view, clear| wgpu::RenderPassColorAttachment {
             view,
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                load: wgpu::LoadOp::Clear(clear),
                 store: wgpu::StoreOp::Store,
             },
+        };
+        // Depth 0, id 0 and, in the one-word pixel, the background level at bits 8..15.
+        let clear_word = wgpu::Color {
+            r: background * 256.0,
+            ..wgpu::Color::TRANSPARENT
         };
         let mut pass = |pipeline: PipelineOf<'_>,
                         colors: &[Option<wgpu::RenderPassColorAttachment>],
@@ -539,11 +581,16 @@ impl Gpu {
             }
         };
         match &t.msaa_views {
+            None if layout == PixelLayout::Word => pass(
+                self.pipelines.word.by_variant(),
+                &[Some(truth_target(&t.truth_view, clear_word))],
+                &t.depth_buffer_view,
+            ),
             None => pass(
                 self.pipelines.all.by_variant(),
                 &[
                     Some(gray_target(&t.gray_view, None)),
-                    Some(truth_target(&t.truth_view)),
+                    Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT)),
                 ],
                 &t.depth_buffer_view,
             ),
@@ -555,7 +602,7 @@ impl Gpu {
                 );
                 pass(
                     [&self.pipelines.truth; 3],
-                    &[Some(truth_target(&t.truth_view))],
+                    &[Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT))],
                     &t.depth_buffer_view,
                 );
             }
@@ -563,7 +610,12 @@ impl Gpu {
     }
 
     /// Maps the first `frames` readback buffers, waits once, and unpads their rows.
-    fn read_back(&self, t: &Targets, frames: usize) -> Result<Vec<Frame>, RenderError> {
+    fn read_back(
+        &self,
+        t: &Targets,
+        layout: PixelLayout,
+        frames: usize,
+    ) -> Result<Vec<Frame>, RenderError> {
         let buffers = &t.readbacks[..frames];
         let (tx, rx) = std::sync::mpsc::channel();
         for buffer in buffers {
@@ -587,7 +639,7 @@ impl Gpu {
                 let bytes = buffer
                     .get_mapped_range(..)
                     .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
-                unpad(&bytes, t.size, &t.layout)
+                unpad(&bytes, t.size, &t.layout, layout)
             };
             buffer.unmap();
             out.push(frame);
@@ -603,18 +655,23 @@ fn frames_per_submission(readback_bytes: u64) -> usize {
     (fit as usize).clamp(1, MAX_FRAMES_PER_SUBMISSION)
 }
 
-/// Copies the two targets into `readback`, rows padded to 256 bytes.
-fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &wgpu::Buffer) {
+/// Copies the frame's targets into `readback` (the gray region stays unused in the one-word
+/// layout), rows padded to 256 bytes.
+fn encode_readback(
+    encoder: &mut wgpu::CommandEncoder,
+    t: &Targets,
+    layout: PixelLayout,
+    readback: &wgpu::Buffer,
+) {
     let l = &t.layout;
     let extent = wgpu::Extent3d {
         width: t.size[0],
         height: t.size[1],
         depth_or_array_layers: 1,
     };
-    for (texture, offset, row) in [
-        (&t.gray, 0, l.gray_row),
-        (&t.truth, l.truth_offset(), l.truth_row),
-    ] {
+    let gray = (layout == PixelLayout::GrayAndTruth).then_some((&t.gray, 0, l.gray_row));
+    let truth = Some((&t.truth, l.truth_offset(), l.truth_row));
+    for (texture, offset, row) in [gray, truth].into_iter().flatten() {
         encoder.copy_texture_to_buffer(
             texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
@@ -630,38 +687,49 @@ fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &w
     }
 }
 
-/// Drops the row padding and splits the packed ground truth into depth (high 16 bits) and ids
-/// (low 16 bits) in the same pass: tight `w * h` images, rows top to bottom.
-fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
+/// Drops the row padding and splits the packed words into gray, depth (high 16 bits) and ids in
+/// the same pass: tight `w * h` images, rows top to bottom.
+fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout, layout: PixelLayout) -> Frame {
     let (w, h) = (w as usize, h as usize);
-    let mut gray = Vec::with_capacity(w * h);
-    for r in 0..h {
-        let start = r * l.gray_row as usize;
-        gray.extend_from_slice(&bytes[start..start + w]);
+    let mut frame = Frame {
+        gray: Vec::with_capacity(w * h),
+        depth: Vec::with_capacity(w * h),
+        ids: Vec::with_capacity(w * h),
+    };
+    if layout == PixelLayout::GrayAndTruth {
+        for r in 0..h {
+            let start = r * l.gray_row as usize;
+            frame.gray.extend_from_slice(&bytes[start..start + w]);
+        }
     }
-    let mut depth = Vec::with_capacity(w * h);
-    let mut ids = Vec::with_capacity(w * h);
     for r in 0..h {
         let start = l.truth_offset() as usize + r * l.truth_row as usize;
         let row = &bytes[start..start + 4 * w];
         match bytemuck::try_cast_slice::<u8, u32>(row) {
-            Ok(words) => split_truth(words.iter().copied(), &mut depth, &mut ids),
-            Err(_) => split_truth(
+            Ok(words) => split_words(words.iter().copied(), layout, &mut frame),
+            Err(_) => split_words(
                 row.chunks_exact(4)
                     .map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])),
-                &mut depth,
-                &mut ids,
+                layout,
+                &mut frame,
             ),
         }
     }
-    Frame { gray, depth, ids }
+    frame
 }
 
-/// Packed ground-truth words (`depth << 16 | id`) split onto the ends of `depth` and `ids`, each
-/// in its own pass so both vectorize.
-fn split_truth(words: impl Iterator<Item = u32> + Clone, depth: &mut Vec<u16>, ids: &mut Vec<u16>) {
-    depth.extend(words.clone().map(|v| (v >> 16) as u16));
-    ids.extend(words.map(|v| v as u16));
+/// One row of packed words split onto the ends of the frame's pictures, each picture in its own
+/// pass so each vectorizes: `depth << 16 | id` ([`PixelLayout::GrayAndTruth`], gray read
+/// separately) or `depth << 16 | gray << 8 | id` ([`PixelLayout::Word`]).
+fn split_words(words: impl Iterator<Item = u32> + Clone, layout: PixelLayout, frame: &mut Frame) {
+    frame.depth.extend(words.clone().map(|v| (v >> 16) as u16));
+    match layout {
+        PixelLayout::GrayAndTruth => frame.ids.extend(words.map(|v| v as u16)),
+        PixelLayout::Word => {
+            frame.gray.extend(words.clone().map(|v| (v >> 8) as u8));
+            frame.ids.extend(words.map(|v| (v & MAX_WORD_BLOCK_ID) as u16));
+        }
+    }
 }
 
 fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::BindGroup) {
@@ -735,6 +803,7 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
             eight: make(["vs_main", fragment], targets, samples),
         };
     let pipelines = Pipelines {
+        word: variants("fs_pixel", std::slice::from_ref(&truth), 1),
         all: variants("fs_all", &[gray, truth.clone()], 1),
         gray_msaa4: variants("fs_gray", &[gray_msaa], 4),
         truth: make(["vs_main", "fs_truth"], &[truth], 1),
@@ -844,9 +913,35 @@ mod tests {
         // The second row starts after the padding (256 bytes), not after three words.
         bytes[t + 256..t + 260].copy_from_slice(&word(1, 2));
         bytes[t + 12..t + 16].copy_from_slice(&word(9, 9));
-        let f = unpad(&bytes, [3, 2], &l);
+        let f = unpad(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth);
         assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
         assert_eq!(f.depth, vec![7, 0, 65535, 1, 0, 0]);
         assert_eq!(f.ids, vec![0, 0, 65535, 2, 0, 0]);
+    }
+
+    #[test]
+    fn unpad_splits_the_one_word_pixel_into_gray_depth_and_ids() {
+        let l = ReadbackLayout::new([2, 2]);
+        let mut bytes = vec![0u8; l.total() as usize];
+        // The gray region is not read in this layout.
+        bytes[..2].copy_from_slice(&[99, 99]);
+        let t = l.truth_offset() as usize;
+        let word = |depth: u32, gray: u32, id: u32| ((depth << 16) | (gray << 8) | id).to_ne_bytes();
+        bytes[t..t + 4].copy_from_slice(&word(0, 20, 0));
+        bytes[t + 4..t + 8].copy_from_slice(&word(65535, 255, 255));
+        bytes[t + 256..t + 260].copy_from_slice(&word(300, 35, 7));
+        bytes[t + 260..t + 264].copy_from_slice(&word(1, 210, 1));
+        let f = unpad(&bytes, [2, 2], &l, PixelLayout::Word);
+        assert_eq!(f.gray, vec![20, 255, 35, 210]);
+        assert_eq!(f.depth, vec![0, 65535, 300, 1]);
+        assert_eq!(f.ids, vec![0, 255, 7, 1]);
+    }
+
+    #[test]
+    fn one_word_pixels_only_single_sampled_with_ids_of_8_bits() {
+        assert_eq!(PixelLayout::of(1, 0), PixelLayout::Word);
+        assert_eq!(PixelLayout::of(1, 255), PixelLayout::Word);
+        assert_eq!(PixelLayout::of(1, 256), PixelLayout::GrayAndTruth);
+        assert_eq!(PixelLayout::of(4, 1), PixelLayout::GrayAndTruth);
     }
 }
