@@ -687,5 +687,8 @@ fn print_cost_of_render_pixels_of_the_10_block_stack() {
     }
     // The block under the top one hides in the view where it is the far corner.
     let blocks_seen = seen[1..].iter().filter(|s| **s).count();
-    assert!(blocks_seen >= 9 && seen[10], "the last view shows {blocks_seen} blocks");
+    assert!(
+        blocks_seen >= 9 && seen[10],
+        "the last view shows {blocks_seen} blocks"
+    );
 }

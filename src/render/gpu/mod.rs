@@ -23,7 +23,7 @@ pub mod mesh;
 pub mod photo;
 
 use super::{Backend, RenderError};
-use mesh::{SeamLines, Vertex};
+use mesh::{DrawOrder, SeamLines, Vertex};
 use std::sync::{Arc, Mutex};
 
 /// The shader source, compiled in so an edited shader triggers a rebuild.
@@ -142,6 +142,9 @@ fn variant_index(lines: SeamLines) -> usize {
 struct Pipelines {
     /// Single-sampled gray, depth and ids in one word ([`PixelLayout::Word`]).
     word: SeamPipelines,
+    /// The same keeping fragments as near as what is drawn, for blocks drawn in
+    /// [`DrawOrder::Descending`].
+    word_as_near: SeamPipelines,
     /// Single-sampled gray + depth and ids ([`PixelLayout::GrayAndTruth`]).
     all: SeamPipelines,
     /// Gray only, 4 samples.
@@ -341,25 +344,35 @@ impl Gpu {
         let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let firsts = self.upload(&mut state.vertices, requests);
-        let vbuf = state.vertices.as_ref().expect("uploaded");
-        let targets = self.targets(&mut state.targets, size, msaa);
-        self.ensure_readbacks(targets, requests.len());
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         let max_id = requests
             .iter()
             .flat_map(|r| r.vertices.iter().map(|v| v.block_id))
             .max()
             .unwrap_or(0);
         let layout = PixelLayout::of(msaa, max_id);
-        for (i, (request, first)) in requests.iter().zip(firsts).enumerate() {
+        // Nearer blocks first where the one-word pixel has the pipelines for it.
+        let ordered: Vec<(Vec<Vertex>, DrawOrder)> = requests
+            .iter()
+            .map(|r| {
+                let order = match layout {
+                    PixelLayout::Word => {
+                        mesh::nearer_first_order(r.vertices, r.uniforms.view_z_row)
+                    }
+                    PixelLayout::GrayAndTruth => DrawOrder::Ascending,
+                };
+                (mesh::in_draw_order(r.vertices, order), order)
+            })
+            .collect();
+        let firsts = self.upload(&mut state.vertices, requests, &ordered);
+        let vbuf = state.vertices.as_ref().expect("uploaded");
+        let targets = self.targets(&mut state.targets, size, msaa);
+        self.ensure_readbacks(targets, requests.len());
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        for (i, ((vertices, order), first)) in ordered.iter().zip(firsts).enumerate() {
             let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
-            let runs: Vec<_> = mesh::seam_line_runs(request.vertices)
-                .into_iter()
-                .map(|(r, lines)| (r.start + first..r.end + first, lines))
-                .collect();
+            let runs = draw_runs(vertices, *order, first);
             self.encode_passes(&mut encoder, targets, layout, vbuf, &runs, uniform_offset);
             encode_readback(&mut encoder, targets, layout, &targets.readbacks[i]);
         }
@@ -383,18 +396,24 @@ impl Gpu {
         result
     }
 
-    /// Writes every request's vertices one after another into the vertex buffer and its
-    /// uniforms at `i * UNIFORM_STRIDE`; returns each frame's first vertex.
-    fn upload(&self, slot: &mut Option<wgpu::Buffer>, requests: &[FrameRequest<'_>]) -> Vec<u32> {
-        let total_bytes: u64 = requests
+    /// Writes every request's vertices (`ordered`, in their drawing order) one after another
+    /// into the vertex buffer and its uniforms at `i * UNIFORM_STRIDE`; returns each frame's
+    /// first vertex.
+    fn upload(
+        &self,
+        slot: &mut Option<wgpu::Buffer>,
+        requests: &[FrameRequest<'_>],
+        ordered: &[(Vec<Vertex>, DrawOrder)],
+    ) -> Vec<u32> {
+        let total_bytes: u64 = ordered
             .iter()
-            .map(|r| std::mem::size_of_val(r.vertices) as u64)
+            .map(|(v, _)| std::mem::size_of_val(v.as_slice()) as u64)
             .sum();
         let vbuf = self.vertex_buffer(slot, total_bytes);
         let (mut byte_offset, mut first) = (0u64, 0u32);
         let mut firsts = Vec::with_capacity(requests.len());
-        for (i, r) in requests.iter().enumerate() {
-            let bytes: &[u8] = bytemuck::cast_slice(r.vertices);
+        for (i, (r, (vertices, _))) in requests.iter().zip(ordered).enumerate() {
+            let bytes: &[u8] = bytemuck::cast_slice(vertices);
             self.queue.write_buffer(vbuf, byte_offset, bytes);
             self.queue.write_buffer(
                 &self.uniforms,
@@ -403,7 +422,7 @@ impl Gpu {
             );
             firsts.push(first);
             byte_offset += bytes.len() as u64;
-            first += r.vertices.len() as u32;
+            first += vertices.len() as u32;
         }
         firsts
     }
@@ -511,14 +530,15 @@ impl Gpu {
     }
 
     /// Records the frame's passes: each run of triangles (`runs`, vertex ranges in drawing
-    /// order) drawn with the pipeline of its [`SeamLines`] variant.
+    /// order) drawn with the pipeline of its [`SeamLines`] variant, keeping fragments as near
+    /// as what is drawn where the run says so ([`draw_runs`]; one-word pixels only).
     fn encode_passes(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         t: &Targets,
         layout: PixelLayout,
         vbuf: &wgpu::Buffer,
-        runs: &[(std::ops::Range<u32>, SeamLines)],
+        runs: &[DrawRun],
         uniform_offset: u32,
     ) {
         // The background level: an integer in the integer target, normalized in the
@@ -557,7 +577,7 @@ impl Gpu {
             r: background * 256.0,
             ..wgpu::Color::TRANSPARENT
         };
-        let mut pass = |pipeline: PipelineOf<'_>,
+        let mut pass = |pipelines: [PipelineOf<'_>; 2],
                         colors: &[Option<wgpu::RenderPassColorAttachment>],
                         depth_buffer: &wgpu::TextureView| {
             let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -575,19 +595,22 @@ impl Gpu {
             });
             rp.set_bind_group(0, &self.bind_group, &[uniform_offset]);
             rp.set_vertex_buffer(0, vbuf.slice(..));
-            for (vertices, lines) in runs {
-                rp.set_pipeline(pipeline[variant_index(*lines)]);
-                rp.draw(vertices.clone(), 0..1);
+            for run in runs {
+                rp.set_pipeline(pipelines[usize::from(run.as_near)][variant_index(run.lines)]);
+                rp.draw(run.vertices.clone(), 0..1);
             }
         };
         match &t.msaa_views {
             None if layout == PixelLayout::Word => pass(
-                self.pipelines.word.by_variant(),
+                [
+                    self.pipelines.word.by_variant(),
+                    self.pipelines.word_as_near.by_variant(),
+                ],
                 &[Some(truth_target(&t.truth_view, clear_word))],
                 &t.depth_buffer_view,
             ),
             None => pass(
-                self.pipelines.all.by_variant(),
+                [self.pipelines.all.by_variant(); 2],
                 &[
                     Some(gray_target(&t.gray_view, None)),
                     Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT)),
@@ -596,12 +619,12 @@ impl Gpu {
             ),
             Some((color, depth_buffer)) => {
                 pass(
-                    self.pipelines.gray_msaa4.by_variant(),
+                    [self.pipelines.gray_msaa4.by_variant(); 2],
                     &[Some(gray_target(color, Some(&t.gray_view)))],
                     depth_buffer,
                 );
                 pass(
-                    [&self.pipelines.truth; 3],
+                    [[&self.pipelines.truth; 3]; 2],
                     &[Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT))],
                     &t.depth_buffer_view,
                 );
@@ -646,6 +669,43 @@ impl Gpu {
         }
         Ok(out)
     }
+}
+
+/// A run of consecutive triangles drawn with one pipeline.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct DrawRun {
+    /// Vertex range in the vertex buffer.
+    vertices: std::ops::Range<u32>,
+    /// The seam-line variant of its faces.
+    lines: SeamLines,
+    /// Whether fragments as near as what is drawn are kept (`LessEqual`): the blocks of a
+    /// [`DrawOrder::Descending`] mesh, never the floor.
+    as_near: bool,
+}
+
+/// The runs of a frame whose mesh (`vertices`, in drawing `order`) starts at vertex `first`:
+/// the blocks' runs ([`mesh::seam_line_runs`]), then the floor's, which always keeps only
+/// nearer fragments.
+fn draw_runs(vertices: &[Vertex], order: DrawOrder, first: u32) -> Vec<DrawRun> {
+    let blocks = mesh::block_vertex_count(vertices);
+    let parts = [
+        (0, &vertices[..blocks], order == DrawOrder::Descending),
+        (blocks, &vertices[blocks..], false),
+    ];
+    let mut runs = Vec::new();
+    for (start, part, as_near) in parts {
+        let offset = first + start as u32;
+        runs.extend(
+            mesh::seam_line_runs(part)
+                .into_iter()
+                .map(|(r, lines)| DrawRun {
+                    vertices: r.start + offset..r.end + offset,
+                    lines,
+                    as_near,
+                }),
+        );
+    }
+    runs
 }
 
 /// Frames per submission for pictures of `readback_bytes` each: all four views unless that
@@ -727,7 +787,9 @@ fn split_words(words: impl Iterator<Item = u32> + Clone, layout: PixelLayout, fr
         PixelLayout::GrayAndTruth => frame.ids.extend(words.map(|v| v as u16)),
         PixelLayout::Word => {
             frame.gray.extend(words.clone().map(|v| (v >> 8) as u8));
-            frame.ids.extend(words.map(|v| (v & MAX_WORD_BLOCK_ID) as u16));
+            frame
+                .ids
+                .extend(words.map(|v| (v & MAX_WORD_BLOCK_ID) as u16));
         }
     }
 }
@@ -785,28 +847,38 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
         target(GRAY_MSAA_FORMAT),
         target(TRUTH_FORMAT),
     );
-    let make = |entries: [&str; 2], targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
-        create_pipeline(device, &module, &layout, entries, targets, samples)
+    let make = |entries: [&str; 2],
+                targets: &[Option<wgpu::ColorTargetState>],
+                samples: u32,
+                compare: wgpu::CompareFunction| {
+        create_pipeline(device, &module, &layout, entries, targets, samples, compare)
     };
-    let variants =
-        |fragment: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| SeamPipelines {
-            none: make(
-                ["vs_no_lines", &format!("{fragment}_no_lines")],
-                targets,
-                samples,
-            ),
-            four: make(
-                ["vs_four_lines", &format!("{fragment}_four_lines")],
-                targets,
-                samples,
-            ),
-            eight: make(["vs_main", fragment], targets, samples),
-        };
+    let variants = |fragment: &str,
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    samples: u32,
+                    compare: wgpu::CompareFunction| SeamPipelines {
+        none: make(
+            ["vs_no_lines", &format!("{fragment}_no_lines")],
+            targets,
+            samples,
+            compare,
+        ),
+        four: make(
+            ["vs_four_lines", &format!("{fragment}_four_lines")],
+            targets,
+            samples,
+            compare,
+        ),
+        eight: make(["vs_main", fragment], targets, samples, compare),
+    };
+    use wgpu::CompareFunction::{Less, LessEqual};
+    let word = std::slice::from_ref(&truth);
     let pipelines = Pipelines {
-        word: variants("fs_pixel", std::slice::from_ref(&truth), 1),
-        all: variants("fs_all", &[gray, truth.clone()], 1),
-        gray_msaa4: variants("fs_gray", &[gray_msaa], 4),
-        truth: make(["vs_main", "fs_truth"], &[truth], 1),
+        word: variants("fs_pixel", word, 1, Less),
+        word_as_near: variants("fs_pixel", word, 1, LessEqual),
+        all: variants("fs_all", &[gray, truth.clone()], 1, Less),
+        gray_msaa4: variants("fs_gray", &[gray_msaa], 4, Less),
+        truth: make(["vs_main", "fs_truth"], &[truth], 1, Less),
     };
     (pipelines, uniforms, bind_group)
 }
@@ -818,6 +890,7 @@ fn create_pipeline(
     [vertex_entry, fragment_entry]: [&str; 2],
     targets: &[Option<wgpu::ColorTargetState>],
     samples: u32,
+    depth_compare: wgpu::CompareFunction,
 ) -> wgpu::RenderPipeline {
     let attributes = wgpu::vertex_attr_array![
         0 => Float32x3,
@@ -851,7 +924,7 @@ fn create_pipeline(
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
+            depth_compare: Some(depth_compare),
             stencil: Default::default(),
             bias: Default::default(),
         }),
@@ -926,7 +999,8 @@ mod tests {
         // The gray region is not read in this layout.
         bytes[..2].copy_from_slice(&[99, 99]);
         let t = l.truth_offset() as usize;
-        let word = |depth: u32, gray: u32, id: u32| ((depth << 16) | (gray << 8) | id).to_ne_bytes();
+        let word =
+            |depth: u32, gray: u32, id: u32| ((depth << 16) | (gray << 8) | id).to_ne_bytes();
         bytes[t..t + 4].copy_from_slice(&word(0, 20, 0));
         bytes[t + 4..t + 8].copy_from_slice(&word(65535, 255, 255));
         bytes[t + 256..t + 260].copy_from_slice(&word(300, 35, 7));
