@@ -176,10 +176,18 @@ fn is_seam(in: VertexOut) -> bool {
         || seam_of_four_lines(in.lines_3, in.lines_4, in.lines_5, f);
 }
 
-// The gray level of a fragment of a face of flat level `shade.x`, seam or not.
+// The gray level of a fragment of a face of flat level `shade.x`, seam or not, for the
+// normalized gray target of the multisampled pass (resolving averages the samples).
 fn gray_level(shade: vec2<u32>, seam: bool) -> vec4<f32> {
     let level = select(f32(shade.x), frame.seam_level, seam);
     return vec4<f32>(level / 255.0, 0.0, 0.0, 1.0);
+}
+
+// The same level as an integer, for the single-sampled pass's integer gray target: the level
+// itself, with no conversion to and from [0, 1] per pixel (the same bytes: the normalized
+// target stores round(level / 255 * 255) = level).
+fn gray_level_u32(shade: vec2<u32>, seam: bool) -> u32 {
+    return select(shade.x, u32(frame.seam_level), seam);
 }
 
 fn gray_of(in: VertexOut) -> vec4<f32> {
@@ -190,19 +198,24 @@ fn depth_of(depth_mm: f32) -> u32 {
     return u32(clamp(round(depth_mm * frame.depth_units_per_mm), 1.0, 65535.0));
 }
 
+// The ground truth of a fragment in one 32-bit word, so one target holds both: depth (1/16 mm)
+// in the high 16 bits, block index + 1 in the low 16 (src/render/gpu/mod.rs splits them while
+// it copies the readback out).
+fn truth_of(depth_mm: f32, shade: vec2<u32>) -> u32 {
+    return (depth_of(depth_mm) << 16u) | (shade.y & 0xffffu);
+}
+
 struct AllOut {
-    @location(0) gray: vec4<f32>,
-    @location(1) depth: u32,
-    @location(2) id: u32,
+    @location(0) gray: u32,
+    @location(1) truth: u32,
 };
 
 // Without MSAA: picture and ground truth in one pass.
 @fragment
 fn fs_all(in: VertexOut) -> AllOut {
     var out: AllOut;
-    out.gray = gray_of(in);
-    out.depth = depth_of(in.depth_mm);
-    out.id = in.shade.y;
+    out.gray = gray_level_u32(in.shade, is_seam(in));
+    out.truth = truth_of(in.depth_mm, in.shade);
     return out;
 }
 
@@ -210,9 +223,8 @@ fn fs_all(in: VertexOut) -> AllOut {
 @fragment
 fn fs_all_four_lines(in: FourLinesOut) -> AllOut {
     var out: AllOut;
-    out.gray = gray_level(in.shade, seam_of_four_lines_within(in));
-    out.depth = depth_of(in.depth_mm);
-    out.id = in.shade.y;
+    out.gray = gray_level_u32(in.shade, seam_of_four_lines_within(in));
+    out.truth = truth_of(in.depth_mm, in.shade);
     return out;
 }
 
@@ -220,10 +232,36 @@ fn fs_all_four_lines(in: FourLinesOut) -> AllOut {
 @fragment
 fn fs_all_no_lines(in: NoLinesOut) -> AllOut {
     var out: AllOut;
-    out.gray = gray_level(in.shade, false);
-    out.depth = depth_of(in.depth_mm);
-    out.id = in.shade.y;
+    out.gray = in.shade.x;
+    out.truth = truth_of(in.depth_mm, in.shade);
     return out;
+}
+
+// The whole pixel in one 32-bit word, for scenes of at most 255 blocks: depth (1/16 mm) in the
+// high 16 bits, the gray level in bits 8..15, block index + 1 in the low 8 bits. One target
+// instead of two: lavapipe then stores, clears and copies one (src/render/gpu/mod.rs splits
+// the word into the three pictures).
+fn pixel_of(depth_mm: f32, shade: vec2<u32>, gray: u32) -> u32 {
+    return (depth_of(depth_mm) << 16u) | (gray << 8u) | (shade.y & 0xffu);
+}
+
+// fs_all in one word (pixel_of).
+@fragment
+fn fs_pixel(in: VertexOut) -> @location(0) u32 {
+    return pixel_of(in.depth_mm, in.shade, gray_level_u32(in.shade, is_seam(in)));
+}
+
+// fs_all_four_lines in one word.
+@fragment
+fn fs_pixel_four_lines(in: FourLinesOut) -> @location(0) u32 {
+    let gray = gray_level_u32(in.shade, seam_of_four_lines_within(in));
+    return pixel_of(in.depth_mm, in.shade, gray);
+}
+
+// fs_all_no_lines in one word.
+@fragment
+fn fs_pixel_no_lines(in: NoLinesOut) -> @location(0) u32 {
+    return pixel_of(in.depth_mm, in.shade, in.shade.x);
 }
 
 // With MSAA: the picture alone (multisampled, then resolved).
@@ -244,16 +282,8 @@ fn fs_gray_no_lines(in: NoLinesOut) -> @location(0) vec4<f32> {
     return gray_level(in.shade, false);
 }
 
-struct TruthOut {
-    @location(0) depth: u32,
-    @location(1) id: u32,
-};
-
 // With MSAA: the ground truth in a second, single-sampled pass.
 @fragment
-fn fs_truth(in: VertexOut) -> TruthOut {
-    var out: TruthOut;
-    out.depth = depth_of(in.depth_mm);
-    out.id = in.shade.y;
-    return out;
+fn fs_truth(in: VertexOut) -> @location(0) u32 {
+    return truth_of(in.depth_mm, in.shade);
 }

@@ -306,6 +306,77 @@ pub fn seam_line_runs(vertices: &[Vertex]) -> Vec<(std::ops::Range<u32>, SeamLin
     runs
 }
 
+/// The order in which a mesh's block triangles are drawn. lavapipe tests depth before it shades
+/// a fragment, so a face drawn after the blocks in front of it costs a depth test instead of the
+/// seam test; which block wins where two are equally near (where they touch) must not depend on
+/// the order, though: in block index order the lower index wins, since each fragment is kept
+/// only where it is nearer than what is drawn (`Less`). Drawn in the reverse order with
+/// fragments kept where nearer or as near (`LessEqual`), the last drawn of equally near
+/// fragments wins, which is again the lower index: every pixel is the same. The floor is drawn
+/// last either way, keeping only nearer fragments, so blocks win where they stand on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawOrder {
+    /// Block index order (as [`scene_vertices`] gives them), fragments kept where nearer.
+    Ascending,
+    /// The reverse, fragments kept where nearer or as near.
+    Descending,
+}
+
+/// How many vertices at the start of `vertices` belong to blocks: the mesh up to its floor
+/// (the trailing vertices of block id 0).
+pub fn block_vertex_count(vertices: &[Vertex]) -> usize {
+    vertices
+        .iter()
+        .rposition(|v| v.block_id != 0)
+        .map_or(0, |last| last + 1)
+}
+
+/// The [`DrawOrder`] that draws nearer blocks first more often for the camera whose depth is
+/// `-dot(view_z_row, (p, 1))` (`FrameUniforms::view_z_row`): descending when the blocks' nearest
+/// corners come nearer as the block id grows (a negative covariance of id and depth).
+pub fn nearer_first_order(vertices: &[Vertex], view_z_row: [f32; 4]) -> DrawOrder {
+    let blocks = &vertices[..block_vertex_count(vertices)];
+    let max_id = blocks.iter().map(|v| v.block_id).max().unwrap_or(0) as usize;
+    let mut nearest_mm = vec![f64::INFINITY; max_id + 1];
+    for v in blocks {
+        let [x, y, z] = v.position_mm.map(f64::from);
+        let [a, b, c, d] = view_z_row.map(f64::from);
+        let depth_mm = -(a * x + b * y + c * z + d);
+        let slot = &mut nearest_mm[v.block_id as usize];
+        *slot = slot.min(depth_mm);
+    }
+    let seen: Vec<(f64, f64)> = (0..=max_id)
+        .filter(|&id| nearest_mm[id].is_finite())
+        .map(|id| (id as f64, nearest_mm[id]))
+        .collect();
+    let n = seen.len().max(1) as f64;
+    let mean_id = seen.iter().map(|p| p.0).sum::<f64>() / n;
+    let mean_mm = seen.iter().map(|p| p.1).sum::<f64>() / n;
+    let covariance: f64 = seen
+        .iter()
+        .map(|(id, mm)| (id - mean_id) * (mm - mean_mm))
+        .sum();
+    if covariance < 0.0 {
+        DrawOrder::Descending
+    } else {
+        DrawOrder::Ascending
+    }
+}
+
+/// `vertices` (block triangles in index order, then the floor) with the block triangles in
+/// `order`, each triangle's corners (and so its winding and first vertex) unchanged.
+pub fn in_draw_order(vertices: &[Vertex], order: DrawOrder) -> Vec<Vertex> {
+    let mut out = vertices.to_vec();
+    if order == DrawOrder::Descending {
+        let blocks = &mut out[..block_vertex_count(vertices)];
+        blocks.reverse();
+        for triangle in blocks.chunks_exact_mut(3) {
+            triangle.reverse();
+        }
+    }
+    out
+}
+
 /// The lines through the projected edges of a face, in framebuffer px: `(a, b, c)` with
 /// `a^2 + b^2 = 1`, so `|a x + b y + c|` is the distance of pixel point `(x, y)` from the line.
 pub fn edge_lines_px(corners: &[DVec3], camera: &Camera) -> [[f32; 3]; MAX_FACE_EDGES] {
@@ -448,6 +519,63 @@ mod tests {
         only_slot_1[1] = [1.0, 0.0, -3.0];
         assert_eq!(SeamLines::of(&only_slot_1), SeamLines::Four);
         assert_eq!(seam_line_runs(&[]), vec![]);
+    }
+
+    /// The order that draws nearer blocks first: the reverse of index order in a view where the
+    /// later blocks are the nearer ones, with every triangle's corners kept.
+    #[test]
+    fn draw_order_puts_nearer_blocks_first_and_keeps_each_triangle() {
+        let scene = Scene::new(
+            "row",
+            (0..3)
+                .map(|i| Block::new("b15", DVec3::new(15.0 * i as f64, 7.5, 0.0), 0.0))
+                .collect(),
+        );
+        let points: Vec<DVec3> = scene
+            .blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .collect();
+        let mut orders = Vec::new();
+        for view in CornerView::ALL {
+            let cam = Camera::frame(&points, view, &CameraOptions::default());
+            let v = scene_vertices(&scene, &cam).unwrap();
+            let row = cam.view_matrix().row(2).as_vec4().to_array();
+            let order = nearer_first_order(&v, row);
+            orders.push(order);
+            let depth = |p: &Vertex| {
+                -cam.view_matrix()
+                    .row(2)
+                    .dot(DVec3::from(p.position_mm.map(f64::from)).extend(1.0))
+            };
+            let ordered = in_draw_order(&v, order);
+            let blocks = block_vertex_count(&v);
+            assert_eq!(blocks, v.len() - 6);
+            // The first block drawn is the nearest one.
+            let first_id = ordered[0].block_id;
+            let nearest = |id: u32| {
+                v.iter()
+                    .filter(|p| p.block_id == id)
+                    .map(depth)
+                    .fold(f64::INFINITY, f64::min)
+            };
+            assert!(
+                (1..=3).all(|id| nearest(first_id) <= nearest(id)),
+                "{view:?}"
+            );
+            // The same triangles, corners in the same order, the floor last.
+            let mut a: Vec<_> = v[..blocks].chunks(3).map(|t| format!("{t:?}")).collect();
+            let mut b: Vec<_> = ordered[..blocks]
+                .chunks(3)
+                .map(|t| format!("{t:?}"))
+                .collect();
+            a.sort();
+            b.sort();
+            assert_eq!(a, b);
+            assert_eq!(v[blocks..], ordered[blocks..]);
+        }
+        // The row runs along x: two views see block 3 nearest, two block 1.
+        assert!(orders.contains(&DrawOrder::Ascending) && orders.contains(&DrawOrder::Descending));
     }
 
     /// A round part: 64 side quads and two 64-triangle fans (256 triangles); seams only on rim

@@ -8,22 +8,58 @@
 //! cost of lavapipe (waking its rasterizer threads, the fence, the map) is paid once per scene,
 //! not once per view (README "Benchmarks").
 //!
-//! Without MSAA one pass writes all three targets (gray `R8Unorm`, depth and ids `R16Uint`).
-//! With MSAA 4 the gray picture is drawn multisampled and resolved, and a second single-sampled
-//! pass draws the ground truth, so depth and ids are never blended.
+//! Without MSAA one pass writes the whole pixel into ONE `R32Uint` target when every block id
+//! fits 8 bits (at most 255 blocks): depth in the high 16 bits, the gray level, the id
+//! ([`PixelLayout::Word`]); larger scenes get two targets, the gray level (`R8Uint`) and depth
+//! with a 16-bit id in one word ([`PixelLayout::GrayAndTruth`]). One target instead of the
+//! three separate pictures spares lavapipe two color stores per pixel, two clears and two
+//! copies (README "Peer ratios"); the readback splits the words while it drops the row
+//! padding, so the frames are those of separate targets. With MSAA 4 the gray picture is drawn
+//! multisampled (`R8Unorm`, resolving averages) and resolved, and a second single-sampled pass
+//! draws the ground truth (`R32Uint`, as in the two-target layout), so depth and ids are never
+//! blended.
 
 pub mod mesh;
 pub mod photo;
 
 use super::{Backend, RenderError};
-use mesh::{SeamLines, Vertex};
+use mesh::{DrawOrder, SeamLines, Vertex};
 use std::sync::{Arc, Mutex};
 
 /// The shader source, compiled in so an edited shader triggers a rebuild.
 const SCENE_WGSL: &str = include_str!("../../../shaders/scene.wgsl");
 
-const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Uint;
+/// The single-sampled pass's gray picture: the level as an integer.
+const GRAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+/// The multisampled gray picture and its resolve target (resolving averages normalized values).
+const GRAY_MSAA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+/// The ground truth: `depth << 16 | block id` (`truth_of` in `shaders/scene.wgsl`), or the
+/// whole pixel `depth << 16 | gray << 8 | block id` (`pixel_of`).
+const TRUTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// Largest block id (index + 1) the one-word pixel holds.
+const MAX_WORD_BLOCK_ID: u32 = 0xff;
+
+/// How a single-sampled frame's pixels are laid out in its targets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PixelLayout {
+    /// One `R32Uint` target: `depth << 16 | gray << 8 | id` (ids up to [`MAX_WORD_BLOCK_ID`]).
+    Word,
+    /// The gray level in its own target and `depth << 16 | id` in the other (any id up to
+    /// 65535; also the layout of the multisampled frames' ground truth).
+    GrayAndTruth,
+}
+
+impl PixelLayout {
+    /// The layout for frames drawn with `msaa` samples whose largest block id is `max_id`.
+    fn of(msaa: u32, max_id: u32) -> PixelLayout {
+        if msaa == 1 && max_id <= MAX_WORD_BLOCK_ID {
+            PixelLayout::Word
+        } else {
+            PixelLayout::GrayAndTruth
+        }
+    }
+}
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// How many differently sized target sets stay cached.
@@ -104,7 +140,12 @@ fn variant_index(lines: SeamLines) -> usize {
 }
 
 struct Pipelines {
-    /// Single-sampled gray + depth + ids.
+    /// Single-sampled gray, depth and ids in one word ([`PixelLayout::Word`]).
+    word: SeamPipelines,
+    /// The same keeping fragments as near as what is drawn, for blocks drawn in
+    /// [`DrawOrder::Descending`].
+    word_as_near: SeamPipelines,
+    /// Single-sampled gray + depth and ids ([`PixelLayout::GrayAndTruth`]).
     all: SeamPipelines,
     /// Gray only, 4 samples.
     gray_msaa4: SeamPipelines,
@@ -112,7 +153,8 @@ struct Pipelines {
     truth: wgpu::RenderPipeline,
 }
 
-/// Bytes per row of each readback region, padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+/// Bytes per row of each readback region (the gray picture, then the packed ground truth),
+/// padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ReadbackLayout {
     gray_row: u32,
@@ -125,18 +167,15 @@ impl ReadbackLayout {
         let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         ReadbackLayout {
             gray_row: w.div_ceil(align) * align,
-            truth_row: (2 * w).div_ceil(align) * align,
+            truth_row: (4 * w).div_ceil(align) * align,
             height: h,
         }
     }
-    fn depth_offset(&self) -> u64 {
+    fn truth_offset(&self) -> u64 {
         self.gray_row as u64 * self.height as u64
     }
-    fn ids_offset(&self) -> u64 {
-        self.depth_offset() + self.truth_row as u64 * self.height as u64
-    }
     fn total(&self) -> u64 {
-        self.ids_offset() + self.truth_row as u64 * self.height as u64
+        self.truth_offset() + self.truth_row as u64 * self.height as u64
     }
 }
 
@@ -144,12 +183,12 @@ impl ReadbackLayout {
 struct Targets {
     size: [u32; 2],
     msaa: u32,
+    /// The gray picture ([`GRAY_FORMAT`], or the resolve target in [`GRAY_MSAA_FORMAT`]).
     gray: wgpu::Texture,
     gray_view: wgpu::TextureView,
-    depth: wgpu::Texture,
-    depth_view: wgpu::TextureView,
-    ids: wgpu::Texture,
-    ids_view: wgpu::TextureView,
+    /// Depth and block ids packed ([`TRUTH_FORMAT`]).
+    truth: wgpu::Texture,
+    truth_view: wgpu::TextureView,
     depth_buffer_view: wgpu::TextureView,
     /// Multisampled gray and depth buffer (MSAA 4 only).
     msaa_views: Option<(wgpu::TextureView, wgpu::TextureView)>,
@@ -305,25 +344,41 @@ impl Gpu {
         let started = std::time::Instant::now();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let firsts = self.upload(&mut state.vertices, requests);
+        let max_id = requests
+            .iter()
+            .flat_map(|r| r.vertices.iter().map(|v| v.block_id))
+            .max()
+            .unwrap_or(0);
+        let layout = PixelLayout::of(msaa, max_id);
+        // Nearer blocks first where the one-word pixel has the pipelines for it.
+        let ordered: Vec<(Vec<Vertex>, DrawOrder)> = requests
+            .iter()
+            .map(|r| {
+                let order = match layout {
+                    PixelLayout::Word => {
+                        mesh::nearer_first_order(r.vertices, r.uniforms.view_z_row)
+                    }
+                    PixelLayout::GrayAndTruth => DrawOrder::Ascending,
+                };
+                (mesh::in_draw_order(r.vertices, order), order)
+            })
+            .collect();
+        let firsts = self.upload(&mut state.vertices, requests, &ordered);
         let vbuf = state.vertices.as_ref().expect("uploaded");
         let targets = self.targets(&mut state.targets, size, msaa);
         self.ensure_readbacks(targets, requests.len());
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        for (i, (request, first)) in requests.iter().zip(firsts).enumerate() {
+        for (i, ((vertices, order), first)) in ordered.iter().zip(firsts).enumerate() {
             let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
-            let runs: Vec<_> = mesh::seam_line_runs(request.vertices)
-                .into_iter()
-                .map(|(r, lines)| (r.start + first..r.end + first, lines))
-                .collect();
-            self.encode_passes(&mut encoder, targets, vbuf, &runs, uniform_offset);
-            encode_readback(&mut encoder, targets, &targets.readbacks[i]);
+            let runs = draw_runs(vertices, *order, first);
+            self.encode_passes(&mut encoder, targets, layout, vbuf, &runs, uniform_offset);
+            encode_readback(&mut encoder, targets, layout, &targets.readbacks[i]);
         }
         self.queue.submit([encoder.finish()]);
         let submitted = started.elapsed();
-        let result = self.read_back(targets, requests.len());
+        let result = self.read_back(targets, layout, requests.len());
         tracing::debug!(
             frames = requests.len(),
             submit_ms = submitted.as_secs_f64() * 1e3,
@@ -341,18 +396,24 @@ impl Gpu {
         result
     }
 
-    /// Writes every request's vertices one after another into the vertex buffer and its
-    /// uniforms at `i * UNIFORM_STRIDE`; returns each frame's first vertex.
-    fn upload(&self, slot: &mut Option<wgpu::Buffer>, requests: &[FrameRequest<'_>]) -> Vec<u32> {
-        let total_bytes: u64 = requests
+    /// Writes every request's vertices (`ordered`, in their drawing order) one after another
+    /// into the vertex buffer and its uniforms at `i * UNIFORM_STRIDE`; returns each frame's
+    /// first vertex.
+    fn upload(
+        &self,
+        slot: &mut Option<wgpu::Buffer>,
+        requests: &[FrameRequest<'_>],
+        ordered: &[(Vec<Vertex>, DrawOrder)],
+    ) -> Vec<u32> {
+        let total_bytes: u64 = ordered
             .iter()
-            .map(|r| std::mem::size_of_val(r.vertices) as u64)
+            .map(|(v, _)| std::mem::size_of_val(v.as_slice()) as u64)
             .sum();
         let vbuf = self.vertex_buffer(slot, total_bytes);
         let (mut byte_offset, mut first) = (0u64, 0u32);
         let mut firsts = Vec::with_capacity(requests.len());
-        for (i, r) in requests.iter().enumerate() {
-            let bytes: &[u8] = bytemuck::cast_slice(r.vertices);
+        for (i, (r, (vertices, _))) in requests.iter().zip(ordered).enumerate() {
+            let bytes: &[u8] = bytemuck::cast_slice(vertices);
             self.queue.write_buffer(vbuf, byte_offset, bytes);
             self.queue.write_buffer(
                 &self.uniforms,
@@ -361,7 +422,7 @@ impl Gpu {
             );
             firsts.push(first);
             byte_offset += bytes.len() as u64;
-            first += r.vertices.len() as u32;
+            first += vertices.len() as u32;
         }
         firsts
     }
@@ -440,12 +501,16 @@ impl Gpu {
         };
         let readable = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let (gray, gray_view) = texture("gray", GRAY_FORMAT, 1, readable);
-        let (depth, depth_view) = texture("depth", TRUTH_FORMAT, 1, readable);
-        let (ids, ids_view) = texture("ids", TRUTH_FORMAT, 1, readable);
+        let gray_format = if msaa > 1 {
+            GRAY_MSAA_FORMAT
+        } else {
+            GRAY_FORMAT
+        };
+        let (gray, gray_view) = texture("gray", gray_format, 1, readable);
+        let (truth, truth_view) = texture("depth and ids", TRUTH_FORMAT, 1, readable);
         let (_, depth_buffer_view) = texture("depth buffer", DEPTH_FORMAT, 1, attachment);
         let msaa_views = (msaa > 1).then(|| {
-            let (_, c) = texture("gray msaa", GRAY_FORMAT, msaa, attachment);
+            let (_, c) = texture("gray msaa", GRAY_MSAA_FORMAT, msaa, attachment);
             let (_, d) = texture("depth buffer msaa", DEPTH_FORMAT, msaa, attachment);
             (c, d)
         });
@@ -455,10 +520,8 @@ impl Gpu {
             msaa,
             gray,
             gray_view,
-            depth,
-            depth_view,
-            ids,
-            ids_view,
+            truth,
+            truth_view,
             depth_buffer_view,
             msaa_views,
             readbacks: Vec::new(),
@@ -467,18 +530,26 @@ impl Gpu {
     }
 
     /// Records the frame's passes: each run of triangles (`runs`, vertex ranges in drawing
-    /// order) drawn with the pipeline of its [`SeamLines`] variant.
+    /// order) drawn with the pipeline of its [`SeamLines`] variant, keeping fragments as near
+    /// as what is drawn where the run says so ([`draw_runs`]; one-word pixels only).
     fn encode_passes(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         t: &Targets,
+        layout: PixelLayout,
         vbuf: &wgpu::Buffer,
-        runs: &[(std::ops::Range<u32>, SeamLines)],
+        runs: &[DrawRun],
         uniform_offset: u32,
     ) {
-        let background = f64::from(super::BACKGROUND_LEVEL) / 255.0;
+        // The background level: an integer in the integer target, normalized in the
+        // multisampled one.
+        let background = f64::from(super::BACKGROUND_LEVEL);
         let clear_gray = wgpu::Color {
-            r: background,
+            r: if t.msaa_views.is_some() {
+                background / 255.0
+            } else {
+                background
+            },
             g: 0.0,
             b: 0.0,
             a: 1.0,
@@ -492,16 +563,21 @@ impl Gpu {
                 store: wgpu::StoreOp::Store,
             },
         };
-        let truth_target = |view| wgpu::RenderPassColorAttachment {
+        let truth_target = |view, clear| wgpu::RenderPassColorAttachment {
             view,
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                load: wgpu::LoadOp::Clear(clear),
                 store: wgpu::StoreOp::Store,
             },
         };
-        let mut pass = |pipeline: PipelineOf<'_>,
+        // Depth 0, id 0 and, in the one-word pixel, the background level at bits 8..15.
+        let clear_word = wgpu::Color {
+            r: background * 256.0,
+            ..wgpu::Color::TRANSPARENT
+        };
+        let mut pass = |pipelines: [PipelineOf<'_>; 2],
                         colors: &[Option<wgpu::RenderPassColorAttachment>],
                         depth_buffer: &wgpu::TextureView| {
             let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -519,33 +595,37 @@ impl Gpu {
             });
             rp.set_bind_group(0, &self.bind_group, &[uniform_offset]);
             rp.set_vertex_buffer(0, vbuf.slice(..));
-            for (vertices, lines) in runs {
-                rp.set_pipeline(pipeline[variant_index(*lines)]);
-                rp.draw(vertices.clone(), 0..1);
+            for run in runs {
+                rp.set_pipeline(pipelines[usize::from(run.as_near)][variant_index(run.lines)]);
+                rp.draw(run.vertices.clone(), 0..1);
             }
         };
         match &t.msaa_views {
+            None if layout == PixelLayout::Word => pass(
+                [
+                    self.pipelines.word.by_variant(),
+                    self.pipelines.word_as_near.by_variant(),
+                ],
+                &[Some(truth_target(&t.truth_view, clear_word))],
+                &t.depth_buffer_view,
+            ),
             None => pass(
-                self.pipelines.all.by_variant(),
+                [self.pipelines.all.by_variant(); 2],
                 &[
                     Some(gray_target(&t.gray_view, None)),
-                    Some(truth_target(&t.depth_view)),
-                    Some(truth_target(&t.ids_view)),
+                    Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT)),
                 ],
                 &t.depth_buffer_view,
             ),
             Some((color, depth_buffer)) => {
                 pass(
-                    self.pipelines.gray_msaa4.by_variant(),
+                    [self.pipelines.gray_msaa4.by_variant(); 2],
                     &[Some(gray_target(color, Some(&t.gray_view)))],
                     depth_buffer,
                 );
                 pass(
-                    [&self.pipelines.truth; 3],
-                    &[
-                        Some(truth_target(&t.depth_view)),
-                        Some(truth_target(&t.ids_view)),
-                    ],
+                    [[&self.pipelines.truth; 3]; 2],
+                    &[Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT))],
                     &t.depth_buffer_view,
                 );
             }
@@ -553,7 +633,12 @@ impl Gpu {
     }
 
     /// Maps the first `frames` readback buffers, waits once, and unpads their rows.
-    fn read_back(&self, t: &Targets, frames: usize) -> Result<Vec<Frame>, RenderError> {
+    fn read_back(
+        &self,
+        t: &Targets,
+        layout: PixelLayout,
+        frames: usize,
+    ) -> Result<Vec<Frame>, RenderError> {
         let buffers = &t.readbacks[..frames];
         let (tx, rx) = std::sync::mpsc::channel();
         for buffer in buffers {
@@ -577,13 +662,50 @@ impl Gpu {
                 let bytes = buffer
                     .get_mapped_range(..)
                     .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
-                unpad(&bytes, t.size, &t.layout)
+                unpad(&bytes, t.size, &t.layout, layout)
             };
             buffer.unmap();
             out.push(frame);
         }
         Ok(out)
     }
+}
+
+/// A run of consecutive triangles drawn with one pipeline.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct DrawRun {
+    /// Vertex range in the vertex buffer.
+    vertices: std::ops::Range<u32>,
+    /// The seam-line variant of its faces.
+    lines: SeamLines,
+    /// Whether fragments as near as what is drawn are kept (`LessEqual`): the blocks of a
+    /// [`DrawOrder::Descending`] mesh, never the floor.
+    as_near: bool,
+}
+
+/// The runs of a frame whose mesh (`vertices`, in drawing `order`) starts at vertex `first`:
+/// the blocks' runs ([`mesh::seam_line_runs`]), then the floor's, which always keeps only
+/// nearer fragments.
+fn draw_runs(vertices: &[Vertex], order: DrawOrder, first: u32) -> Vec<DrawRun> {
+    let blocks = mesh::block_vertex_count(vertices);
+    let parts = [
+        (0, &vertices[..blocks], order == DrawOrder::Descending),
+        (blocks, &vertices[blocks..], false),
+    ];
+    let mut runs = Vec::new();
+    for (start, part, as_near) in parts {
+        let offset = first + start as u32;
+        runs.extend(
+            mesh::seam_line_runs(part)
+                .into_iter()
+                .map(|(r, lines)| DrawRun {
+                    vertices: r.start + offset..r.end + offset,
+                    lines,
+                    as_near,
+                }),
+        );
+    }
+    runs
 }
 
 /// Frames per submission for pictures of `readback_bytes` each: all four views unless that
@@ -593,19 +715,23 @@ fn frames_per_submission(readback_bytes: u64) -> usize {
     (fit as usize).clamp(1, MAX_FRAMES_PER_SUBMISSION)
 }
 
-/// Copies the three targets into `readback`, rows padded to 256 bytes.
-fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &wgpu::Buffer) {
+/// Copies the frame's targets into `readback` (the gray region stays unused in the one-word
+/// layout), rows padded to 256 bytes.
+fn encode_readback(
+    encoder: &mut wgpu::CommandEncoder,
+    t: &Targets,
+    layout: PixelLayout,
+    readback: &wgpu::Buffer,
+) {
     let l = &t.layout;
     let extent = wgpu::Extent3d {
         width: t.size[0],
         height: t.size[1],
         depth_or_array_layers: 1,
     };
-    for (texture, offset, row) in [
-        (&t.gray, 0, l.gray_row),
-        (&t.depth, l.depth_offset(), l.truth_row),
-        (&t.ids, l.ids_offset(), l.truth_row),
-    ] {
+    let gray = (layout == PixelLayout::GrayAndTruth).then_some((&t.gray, 0, l.gray_row));
+    let truth = Some((&t.truth, l.truth_offset(), l.truth_row));
+    for (texture, offset, row) in [gray, truth].into_iter().flatten() {
         encoder.copy_texture_to_buffer(
             texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
@@ -621,33 +747,50 @@ fn encode_readback(encoder: &mut wgpu::CommandEncoder, t: &Targets, readback: &w
     }
 }
 
-/// Drops the row padding: tight `w * h` images, rows top to bottom.
-fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout) -> Frame {
+/// Drops the row padding and splits the packed words into gray, depth (high 16 bits) and ids in
+/// the same pass: tight `w * h` images, rows top to bottom.
+fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout, layout: PixelLayout) -> Frame {
     let (w, h) = (w as usize, h as usize);
-    let mut gray = Vec::with_capacity(w * h);
-    for r in 0..h {
-        let start = r * l.gray_row as usize;
-        gray.extend_from_slice(&bytes[start..start + w]);
-    }
-    let read16 = |offset: u64| {
-        let mut out = Vec::with_capacity(w * h);
-        for r in 0..h {
-            let start = offset as usize + r * l.truth_row as usize;
-            let row = &bytes[start..start + 2 * w];
-            match bytemuck::try_cast_slice::<u8, u16>(row) {
-                Ok(values) => out.extend_from_slice(values),
-                Err(_) => out.extend(
-                    row.chunks_exact(2)
-                        .map(|c| u16::from_ne_bytes([c[0], c[1]])),
-                ),
-            }
-        }
-        out
+    let mut frame = Frame {
+        gray: Vec::with_capacity(w * h),
+        depth: Vec::with_capacity(w * h),
+        ids: Vec::with_capacity(w * h),
     };
-    Frame {
-        gray,
-        depth: read16(l.depth_offset()),
-        ids: read16(l.ids_offset()),
+    if layout == PixelLayout::GrayAndTruth {
+        for r in 0..h {
+            let start = r * l.gray_row as usize;
+            frame.gray.extend_from_slice(&bytes[start..start + w]);
+        }
+    }
+    for r in 0..h {
+        let start = l.truth_offset() as usize + r * l.truth_row as usize;
+        let row = &bytes[start..start + 4 * w];
+        match bytemuck::try_cast_slice::<u8, u32>(row) {
+            Ok(words) => split_words(words.iter().copied(), layout, &mut frame),
+            Err(_) => split_words(
+                row.chunks_exact(4)
+                    .map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])),
+                layout,
+                &mut frame,
+            ),
+        }
+    }
+    frame
+}
+
+/// One row of packed words split onto the ends of the frame's pictures, each picture in its own
+/// pass so each vectorizes: `depth << 16 | id` ([`PixelLayout::GrayAndTruth`], gray read
+/// separately) or `depth << 16 | gray << 8 | id` ([`PixelLayout::Word`]).
+fn split_words(words: impl Iterator<Item = u32> + Clone, layout: PixelLayout, frame: &mut Frame) {
+    frame.depth.extend(words.clone().map(|v| (v >> 16) as u16));
+    match layout {
+        PixelLayout::GrayAndTruth => frame.ids.extend(words.map(|v| v as u16)),
+        PixelLayout::Word => {
+            frame.gray.extend(words.clone().map(|v| (v >> 8) as u8));
+            frame
+                .ids
+                .extend(words.map(|v| (v & MAX_WORD_BLOCK_ID) as u16));
+        }
     }
 }
 
@@ -692,37 +835,50 @@ fn create_pipelines(device: &wgpu::Device) -> (Pipelines, wgpu::Buffer, wgpu::Bi
         bind_group_layouts: &[Some(&bgl)],
         immediate_size: 0,
     });
-    let gray = Some(wgpu::ColorTargetState {
-        format: GRAY_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
-    let truth = Some(wgpu::ColorTargetState {
-        format: TRUTH_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
-    let make = |entries: [&str; 2], targets: &[Option<wgpu::ColorTargetState>], samples: u32| {
-        create_pipeline(device, &module, &layout, entries, targets, samples)
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
     };
-    let variants =
-        |fragment: &str, targets: &[Option<wgpu::ColorTargetState>], samples: u32| SeamPipelines {
-            none: make(
-                ["vs_no_lines", &format!("{fragment}_no_lines")],
-                targets,
-                samples,
-            ),
-            four: make(
-                ["vs_four_lines", &format!("{fragment}_four_lines")],
-                targets,
-                samples,
-            ),
-            eight: make(["vs_main", fragment], targets, samples),
-        };
+    let (gray, gray_msaa, truth) = (
+        target(GRAY_FORMAT),
+        target(GRAY_MSAA_FORMAT),
+        target(TRUTH_FORMAT),
+    );
+    let make = |entries: [&str; 2],
+                targets: &[Option<wgpu::ColorTargetState>],
+                samples: u32,
+                compare: wgpu::CompareFunction| {
+        create_pipeline(device, &module, &layout, entries, targets, samples, compare)
+    };
+    let variants = |fragment: &str,
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    samples: u32,
+                    compare: wgpu::CompareFunction| SeamPipelines {
+        none: make(
+            ["vs_no_lines", &format!("{fragment}_no_lines")],
+            targets,
+            samples,
+            compare,
+        ),
+        four: make(
+            ["vs_four_lines", &format!("{fragment}_four_lines")],
+            targets,
+            samples,
+            compare,
+        ),
+        eight: make(["vs_main", fragment], targets, samples, compare),
+    };
+    use wgpu::CompareFunction::{Less, LessEqual};
+    let word = std::slice::from_ref(&truth);
     let pipelines = Pipelines {
-        all: variants("fs_all", &[gray.clone(), truth.clone(), truth.clone()], 1),
-        gray_msaa4: variants("fs_gray", &[gray], 4),
-        truth: make(["vs_main", "fs_truth"], &[truth.clone(), truth], 1),
+        word: variants("fs_pixel", word, 1, Less),
+        word_as_near: variants("fs_pixel", word, 1, LessEqual),
+        all: variants("fs_all", &[gray, truth.clone()], 1, Less),
+        gray_msaa4: variants("fs_gray", &[gray_msaa], 4, Less),
+        truth: make(["vs_main", "fs_truth"], &[truth], 1, Less),
     };
     (pipelines, uniforms, bind_group)
 }
@@ -734,6 +890,7 @@ fn create_pipeline(
     [vertex_entry, fragment_entry]: [&str; 2],
     targets: &[Option<wgpu::ColorTargetState>],
     samples: u32,
+    depth_compare: wgpu::CompareFunction,
 ) -> wgpu::RenderPipeline {
     let attributes = wgpu::vertex_attr_array![
         0 => Float32x3,
@@ -767,7 +924,7 @@ fn create_pipeline(
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
+            depth_compare: Some(depth_compare),
             stencil: Default::default(),
             bias: Default::default(),
         }),
@@ -793,11 +950,12 @@ mod tests {
     #[test]
     fn readback_rows_are_padded_to_256_bytes() {
         let l = ReadbackLayout::new([500, 3]);
-        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
-        assert_eq!(l.depth_offset(), 512 * 3);
-        assert_eq!(l.total(), 512 * 3 + 2 * 1024 * 3);
+        assert_eq!((l.gray_row, l.truth_row), (512, 2048));
+        assert_eq!(l.truth_offset(), 512 * 3);
+        assert_eq!(l.total(), 512 * 3 + 2048 * 3);
         let l = ReadbackLayout::new([512, 480]);
-        assert_eq!((l.gray_row, l.truth_row), (512, 1024));
+        assert_eq!((l.gray_row, l.truth_row), (512, 2048));
+        assert_eq!(l.total(), 5 * 512 * 480, "5 bytes per pixel, no padding");
     }
 
     #[test]
@@ -816,16 +974,48 @@ mod tests {
     }
 
     #[test]
-    fn unpad_drops_padding() {
+    fn unpad_drops_padding_and_splits_depth_from_ids() {
         let l = ReadbackLayout::new([3, 2]);
         let mut bytes = vec![0u8; l.total() as usize];
         bytes[..3].copy_from_slice(&[1, 2, 3]);
         bytes[256..259].copy_from_slice(&[4, 5, 6]);
-        let d = l.depth_offset() as usize;
-        bytes[d..d + 2].copy_from_slice(&7u16.to_ne_bytes());
-        let f = unpad(&bytes, [3, 2], &l);
+        let t = l.truth_offset() as usize;
+        let word = |depth: u32, id: u32| ((depth << 16) | id).to_ne_bytes();
+        bytes[t..t + 4].copy_from_slice(&word(7, 0));
+        bytes[t + 8..t + 12].copy_from_slice(&word(65535, 65535));
+        // The second row starts after the padding (256 bytes), not after three words.
+        bytes[t + 256..t + 260].copy_from_slice(&word(1, 2));
+        bytes[t + 12..t + 16].copy_from_slice(&word(9, 9));
+        let f = unpad(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth);
         assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
-        assert_eq!(f.depth[0], 7);
-        assert_eq!(f.ids, vec![0; 6]);
+        assert_eq!(f.depth, vec![7, 0, 65535, 1, 0, 0]);
+        assert_eq!(f.ids, vec![0, 0, 65535, 2, 0, 0]);
+    }
+
+    #[test]
+    fn unpad_splits_the_one_word_pixel_into_gray_depth_and_ids() {
+        let l = ReadbackLayout::new([2, 2]);
+        let mut bytes = vec![0u8; l.total() as usize];
+        // The gray region is not read in this layout.
+        bytes[..2].copy_from_slice(&[99, 99]);
+        let t = l.truth_offset() as usize;
+        let word =
+            |depth: u32, gray: u32, id: u32| ((depth << 16) | (gray << 8) | id).to_ne_bytes();
+        bytes[t..t + 4].copy_from_slice(&word(0, 20, 0));
+        bytes[t + 4..t + 8].copy_from_slice(&word(65535, 255, 255));
+        bytes[t + 256..t + 260].copy_from_slice(&word(300, 35, 7));
+        bytes[t + 260..t + 264].copy_from_slice(&word(1, 210, 1));
+        let f = unpad(&bytes, [2, 2], &l, PixelLayout::Word);
+        assert_eq!(f.gray, vec![20, 255, 35, 210]);
+        assert_eq!(f.depth, vec![0, 65535, 300, 1]);
+        assert_eq!(f.ids, vec![0, 255, 7, 1]);
+    }
+
+    #[test]
+    fn one_word_pixels_only_single_sampled_with_ids_of_8_bits() {
+        assert_eq!(PixelLayout::of(1, 0), PixelLayout::Word);
+        assert_eq!(PixelLayout::of(1, 255), PixelLayout::Word);
+        assert_eq!(PixelLayout::of(1, 256), PixelLayout::GrayAndTruth);
+        assert_eq!(PixelLayout::of(4, 1), PixelLayout::GrayAndTruth);
     }
 }
