@@ -1,0 +1,381 @@
+//! Step 6 with the pictures themselves (README "Recognizer", "Photographic look"): when a
+//! hypothesis's exact redraw and a view's vision drawing differ, the picture the drawing was
+//! read from is asked, as the thesis's line finder read its edge pixels: across the line.
+//!
+//! * A line the redraw has and the drawing lacks (an edge too faint for the front end: two
+//!   faces shaded alike, a crack between flush tops of equal albedo) is **confirmed** when the
+//!   picture shows a step of one sign across it, or a narrow dark crack, along most of its
+//!   length ([`EdgeProfile::confirms`]).
+//! * A line the drawing has and the redraw lacks is **tolerated** only when the picture shows
+//!   neither along it: a short fragment, or a soft ramp ([`EdgeProfile::is_weak`]); a strong,
+//!   step-like, long line is never tolerated.
+//! * A point the redraw has and the drawing lacks is explained when every redrawn line at it is
+//!   observed or confirmed and one is confirmed (the end of a faint edge); a point the drawing
+//!   has is explained when its lines are explained or tolerated and one is tolerated.
+//! * At the ends of contact edges (cracks, a block resting on another) points may lie
+//!   [`CRACK_ALLOWANCE_MM`] further apart: a photographed crack has a width, and the faces
+//!   beside it draw back from the contact plane, so the front end's corner lies off the
+//!   solid's corner by up to that much.
+//!
+//! The hypothesis itself is never read from the picture here: the picture only decides whether
+//! a difference between its redraw and the drawing is a failure of the front end or of the
+//! hypothesis.
+
+use super::verify::{
+    distance_to_segment_px, mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch,
+};
+use crate::drawing::LineDrawing;
+use crate::geom::{gray_at, noise_levels, DVec2, DVec3};
+use image::GrayImage;
+
+/// A view's picture with its noise, read once.
+#[derive(Debug, Clone, Copy)]
+pub struct ViewPicture<'a> {
+    /// The grayscale picture the view's drawing was read from (px, y up as in `geom`).
+    pub gray: &'a GrayImage,
+    /// The picture's noise sigma, gray levels ([`noise_levels`]).
+    pub noise_levels: f64,
+}
+
+impl<'a> ViewPicture<'a> {
+    /// `gray` with its noise measured.
+    pub fn new(gray: &'a GrayImage) -> ViewPicture<'a> {
+        ViewPicture {
+            gray,
+            noise_levels: noise_levels(gray),
+        }
+    }
+
+    /// The smallest change across a line one sample must show, gray levels: at least
+    /// [`MIN_STEP_LEVELS`], and [`NOISE_MULTIPLE`] times the picture's noise.
+    pub fn min_step_levels(&self) -> f64 {
+        MIN_STEP_LEVELS.max(NOISE_MULTIPLE * self.noise_levels)
+    }
+}
+
+/// Smallest change across a confirmed edge at one sample, gray levels: a crack between flush
+/// tops of equal albedo darkens by about 3 levels in the photographic look (noise about 1).
+pub const MIN_STEP_LEVELS: f64 = 2.5;
+/// A sample's change must reach this many times the picture's noise (each side is the mean of
+/// two pixels, so the change has the noise's sigma; 2.5 sigma is crossed by 0.6% of samples
+/// of one sign, and [`MIN_SHARE`] asks for most of them).
+pub const NOISE_MULTIPLE: f64 = 2.5;
+/// Share of the samples along a line that must show the step (or the crack) to confirm it: a
+/// contact shadow can even two faces out over part of an edge.
+pub const MIN_SHARE: f64 = 0.5;
+/// A drawing line the redraw lacks is tolerated when its median step across is under this,
+/// gray levels, and no crack runs along it: Chapter VI's threshold of 80 on the smoothed Sobel
+/// magnitude answers to steps of about 20 levels and more, so a line this weak was drawn from
+/// soft shading (a cast shadow's boundary within one face) or by the faint-edge step; faces
+/// of a block against the floor or another face differ by far more.
+pub const WEAK_STEP_LEVELS: f64 = 10.0;
+/// Lines shorter than this are fragments, px (no sample fits between their end margins).
+pub const FRAGMENT_PX: f64 = 2.0 * END_MARGIN_PX + 3.0;
+/// Ends of a line skipped by the samples, px (other edges meet there).
+pub const END_MARGIN_PX: f64 = 4.0;
+/// The line is looked for this far on either side of where it is drawn, px (the exact drawing
+/// is of the sharp solid, the picture of a bevelled one).
+pub const SEARCH_PX: f64 = 2.0;
+/// How much further apart a contact edge's end may lie in the picture than the point
+/// tolerance allows, mm: the photographed crack's half width (0.15 mm, README "Photographic
+/// look": faces that touch draw back 0.15 mm each) plus the bevel beside it (0.05 mm) and as
+/// much again for the edge fit pulled into the crack's dark middle.
+pub const CRACK_ALLOWANCE_MM: f64 = 0.4;
+
+/// What the picture shows across one segment (see the module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EdgeProfile {
+    /// Samples read (1 px apart, [`END_MARGIN_PX`] clear of the ends).
+    pub samples: usize,
+    /// Where across the segment the step is strongest, px.
+    pub step_offset_px: f64,
+    /// Median signed step there (the mean of two pixels on the normal's side minus the mean
+    /// of two on the other), gray levels.
+    pub step_levels: f64,
+    /// Share of samples whose step has the median's sign and reaches the minimum.
+    pub step_share: f64,
+    /// Share of samples, at the best offset, where a narrow line darker than both sides by the
+    /// minimum runs (a crack).
+    pub crack_share: f64,
+}
+
+impl EdgeProfile {
+    /// `true` when the picture shows an edge along the segment (step or crack on at least
+    /// [`MIN_SHARE`] of the samples).
+    pub fn confirms(&self) -> bool {
+        self.samples > 0 && self.step_share.max(self.crack_share) >= MIN_SHARE
+    }
+
+    /// `true` when the picture shows no block edge along the segment: too short to read, or
+    /// no crack and a median step under [`WEAK_STEP_LEVELS`] (a shadow's boundary within one
+    /// face, a penumbra's ramp).
+    pub fn is_weak(&self) -> bool {
+        self.samples == 0
+            || (self.crack_share < MIN_SHARE && self.step_levels.abs() < WEAK_STEP_LEVELS)
+    }
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
+pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
+    let len = a.distance(b);
+    if !(len >= FRAGMENT_PX) {
+        return EdgeProfile::default();
+    }
+    let u = (b - a) / len;
+    let n = u.perp();
+    let min_step = picture.min_step_levels();
+    let at = |c: DVec2, d: f64| gray_at(picture.gray, c + n * d);
+    let centres: Vec<DVec2> = (0..)
+        .map(|k| END_MARGIN_PX + f64::from(k))
+        .take_while(|&t| t <= len - END_MARGIN_PX)
+        .map(|t| a + u * t)
+        .collect();
+    let mut best = EdgeProfile::default();
+    let steps = (2.0 * SEARCH_PX) as i32;
+    for k in 0..=2 * steps {
+        let o = f64::from(k) * 0.5 - SEARCH_PX;
+        let mut step = Vec::with_capacity(centres.len());
+        let mut crack = Vec::with_capacity(centres.len());
+        for &c in &centres {
+            let side = |s: f64| Some((at(c, o + s * 1.5)? + at(c, o + s * 2.5)?) / 2.0);
+            let (Some(plus), Some(minus)) = (side(1.0), side(-1.0)) else {
+                continue;
+            };
+            step.push(plus - minus);
+            let centre = [-0.5, 0.0, 0.5]
+                .iter()
+                .filter_map(|&d| at(c, o + d))
+                .fold(f64::INFINITY, f64::min);
+            crack.push(plus.min(minus) - centre);
+        }
+        if step.is_empty() {
+            continue;
+        }
+        let m = median(&mut step.clone());
+        let sign = if m < 0.0 { -1.0 } else { 1.0 };
+        let share = |v: &[f64], f: &dyn Fn(f64) -> bool| {
+            v.iter().filter(|&&x| f(x)).count() as f64 / v.len() as f64
+        };
+        let step_share = share(&step, &|s| s * sign >= min_step);
+        let crack_share = share(&crack, &|d| d >= min_step);
+        if step_share.max(crack_share) > best.step_share.max(best.crack_share) || best.samples == 0
+        {
+            best = EdgeProfile {
+                samples: step.len(),
+                step_offset_px: o,
+                step_levels: m,
+                step_share,
+                crack_share,
+            };
+        }
+    }
+    best
+}
+
+/// The px per mm of a drawn line, from its world ends (`None` without them or when
+/// degenerate).
+fn px_per_mm(drawn: &LineDrawing, line: usize) -> Option<f64> {
+    let e = drawn.edges.get(line)?;
+    let [i, j] = drawn.lines[line];
+    let mm = DVec3::from(e.from_mm).distance(DVec3::from(e.to_mm));
+    let px = drawn.points[i].distance(drawn.points[j]);
+    (mm > 1e-6 && px.is_finite()).then(|| px / mm)
+}
+
+/// The tolerance for point `p` of `drawn`, px: `tol_px`, plus [`CRACK_ALLOWANCE_MM`] when a
+/// contact edge ends there.
+fn point_allowance_px(drawn: &LineDrawing, p: usize, tol_px: f64) -> f64 {
+    let extra = (0..drawn.lines.len())
+        .filter(|&k| drawn.lines[k].contains(&p))
+        .filter(|&k| drawn.edges.get(k).is_some_and(|e| e.contact))
+        .filter_map(|k| px_per_mm(drawn, k))
+        .map(|s| s * CRACK_ALLOWANCE_MM)
+        .fold(0.0, f64::max);
+    tol_px + extra
+}
+
+/// `true` when `p` lies within `tol_px` of a line of `drawn`.
+fn on_drawn_line(drawn: &LineDrawing, p: DVec2, tol_px: f64) -> bool {
+    drawn
+        .lines
+        .iter()
+        .any(|&[i, j]| distance_to_segment_px(p, drawn.points[i], drawn.points[j]) <= tol_px)
+}
+
+/// Lines of `d` at point `p`.
+fn lines_at(d: &LineDrawing, p: usize) -> impl Iterator<Item = usize> + '_ {
+    (0..d.lines.len()).filter(move |&k| d.lines[k].contains(&p))
+}
+
+/// The features of a comparison that the picture does not account for (see the module doc),
+/// feature by feature.
+pub fn picture_mismatch(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    picture: &ViewPicture,
+    tol_px: f64,
+) -> ViewMismatch {
+    let m = mismatched_features(drawn, observed, tol_px);
+    if m.counts().is_explained() {
+        return m;
+    }
+    let profile = |d: &LineDrawing, k: usize| {
+        let [i, j] = d.lines[k];
+        edge_profile(picture, d.points[i], d.points[j])
+    };
+    // Points matched within the crack allowance, both ways.
+    let crack_pair = |q: DVec2, drawn_p: usize| {
+        q.distance(drawn.points[drawn_p]) <= point_allowance_px(drawn, drawn_p, tol_px)
+    };
+    let offset_drawn: Vec<usize> = m
+        .extra_points
+        .iter()
+        .copied()
+        .filter(|&p| observed.points.iter().any(|&q| crack_pair(q, p)))
+        .collect();
+    let offset_observed: Vec<usize> = m
+        .unexplained_points
+        .iter()
+        .copied()
+        .filter(|&q| (0..drawn.points.len()).any(|p| crack_pair(observed.points[q], p)))
+        .collect();
+    // Lines explained once the crack allowance is granted to their ends.
+    let wide_tol = (0..drawn.points.len())
+        .map(|p| point_allowance_px(drawn, p, tol_px))
+        .fold(tol_px, f64::max);
+    let wide = if wide_tol > tol_px {
+        mismatched_features(drawn, observed, wide_tol)
+    } else {
+        m.clone()
+    };
+    let confirmed: Vec<usize> = m
+        .extra_lines
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let ends_offset = drawn.lines[k].iter().any(|p| offset_drawn.contains(p));
+            (ends_offset && !wide.extra_lines.contains(&k)) || profile(drawn, k).confirms()
+        })
+        .collect();
+    let tolerated: Vec<usize> = m
+        .unexplained_lines
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let ends_offset = observed.lines[k]
+                .iter()
+                .any(|p| offset_observed.contains(p));
+            (ends_offset && !wide.unexplained_lines.contains(&k))
+                || unexplained_pieces(observed, observed.lines[k], drawn, tol_px)
+                    .iter()
+                    .all(|&[a, b]| edge_profile(picture, a, b).is_weak())
+        })
+        .collect();
+    let extra_points = m
+        .extra_points
+        .iter()
+        .copied()
+        .filter(|&p| {
+            let ok = |k: &usize| !m.extra_lines.contains(k) || confirmed.contains(k);
+            let by_lines = lines_at(drawn, p).all(|k| ok(&k))
+                && lines_at(drawn, p).any(|k| confirmed.contains(&k));
+            !(offset_drawn.contains(&p) || by_lines)
+        })
+        .collect();
+    let unexplained_points = m
+        .unexplained_points
+        .iter()
+        .copied()
+        .filter(|&q| {
+            let ok = |k: &usize| !m.unexplained_lines.contains(k) || tolerated.contains(k);
+            let all_ok = lines_at(observed, q).all(|k| ok(&k));
+            let by_lines = all_ok && lines_at(observed, q).any(|k| tolerated.contains(&k));
+            // A point splitting drawn edges (its lines explained) says nothing more.
+            let on_edge = all_ok && on_drawn_line(drawn, observed.points[q], tol_px);
+            !(offset_observed.contains(&q) || by_lines || on_edge)
+        })
+        .collect();
+    ViewMismatch {
+        unexplained_points,
+        extra_points,
+        unexplained_lines: m
+            .unexplained_lines
+            .into_iter()
+            .filter(|k| !tolerated.contains(k))
+            .collect(),
+        extra_lines: m
+            .extra_lines
+            .into_iter()
+            .filter(|k| !confirmed.contains(k))
+            .collect(),
+    }
+}
+
+/// Step 6 with the picture: the counts of [`picture_mismatch`] (all 0 = the view is
+/// explained).
+pub fn picture_check(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    picture: &ViewPicture,
+    tol_px: f64,
+) -> ViewCheck {
+    picture_mismatch(drawn, observed, picture, tol_px).counts()
+}
+
+/// `drawing` without those of `lines` (indices) that the picture shows weak
+/// ([`EdgeProfile::is_weak`]), and without the points only they reached; codes and junctions
+/// recomputed. The lines off every block axis of a camera picture (a cast shadow's boundary on
+/// the floor runs in any direction) go this way before Chapter VII's one-direction check; a
+/// strong line stays and is declined by it.
+pub fn without_weak_lines(
+    drawing: &LineDrawing,
+    lines: &[usize],
+    picture: &ViewPicture,
+) -> LineDrawing {
+    let weak: Vec<usize> = lines
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let [i, j] = drawing.lines[k];
+            edge_profile(picture, drawing.points[i], drawing.points[j]).is_weak()
+        })
+        .collect();
+    if weak.is_empty() {
+        return drawing.clone();
+    }
+    let kept: Vec<[usize; 2]> = (0..drawing.lines.len())
+        .filter(|k| !weak.contains(k))
+        .map(|k| drawing.lines[k])
+        .collect();
+    let mut used = vec![false; drawing.points.len()];
+    for &[i, j] in &kept {
+        used[i] = true;
+        used[j] = true;
+    }
+    // Points no line reaches after the drop go with it; points that had no line stay.
+    let had_line: Vec<bool> = (0..drawing.points.len())
+        .map(|p| drawing.lines.iter().any(|l| l.contains(&p)))
+        .collect();
+    let mut index = vec![usize::MAX; drawing.points.len()];
+    let mut out = LineDrawing::default();
+    for p in 0..drawing.points.len() {
+        if used[p] || !had_line[p] {
+            index[p] = out.points.len();
+            out.points.push(drawing.points[p]);
+        }
+    }
+    out.lines = kept.iter().map(|&[i, j]| [index[i], index[j]]).collect();
+    out.curved_lines = drawing
+        .curved_lines
+        .iter()
+        .filter(|k| !weak.contains(k))
+        .map(|&k| k - weak.iter().filter(|&&w| w < k).count())
+        .collect();
+    out.finalize();
+    out
+}
