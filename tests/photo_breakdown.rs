@@ -12,7 +12,7 @@ use blockworld::camera::CornerView;
 use blockworld::drawing::LineDrawing;
 use blockworld::pipeline::{observe, DrawingSource};
 use blockworld::recognize::{
-    draw_hypothesis, edge_profile, mismatched_features, picture_mismatch, recognize,
+    draw_hypothesis, edge_profile, mismatched_features, pictures_mismatch, recognize,
     recognize_in_pictures, RecognizeOptions, ViewPicture,
 };
 use blockworld::render::{Look, RenderOptions};
@@ -117,14 +117,19 @@ fn photo_declines_broken_down() {
             if ok_with { "exact" } else { "no" },
             with.reason.clone().unwrap_or_default()
         );
-        for (v, r) in views.iter().zip(&rendered) {
-            let truth = draw_hypothesis(&scene.blocks, &v.camera);
-            let pic = ViewPicture::new(&r.gray);
-            let m = mismatched_features(&truth, &v.drawing, tol);
+        let truths: Vec<LineDrawing> = views
+            .iter()
+            .map(|v| draw_hypothesis(&scene.blocks, &v.camera))
+            .collect();
+        let pics: Vec<ViewPicture> = rendered.iter().map(|r| ViewPicture::new(&r.gray)).collect();
+        let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+        let lefts = pictures_mismatch(&truths, &observed, &pics, tol);
+        for (k, v) in views.iter().enumerate() {
+            let (truth, pic, left) = (&truths[k], &pics[k], &lefts[k]);
+            let m = mismatched_features(truth, &v.drawing, tol);
             if m.counts().is_explained() {
                 continue;
             }
-            let left = picture_mismatch(&truth, &v.drawing, &pic, tol);
             println!(
                 "  view {}: truth vs drawing {:?}; after picture {:?} (noise {:.2})",
                 v.camera.view.name(),
@@ -137,14 +142,14 @@ fn photo_declines_broken_down() {
                 println!(
                     "    {} missing edge  {}",
                     mark(&left.extra_lines, k),
-                    line_text(&truth, k, &pic)
+                    line_text(truth, k, pic)
                 );
             }
             for &k in &m.unexplained_lines {
                 println!(
                     "    {} unexplained   {}",
                     mark(&left.unexplained_lines, k),
-                    line_text(&v.drawing, k, &pic)
+                    line_text(&v.drawing, k, pic)
                 );
             }
             for &p in &m.extra_points {

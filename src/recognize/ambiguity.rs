@@ -14,7 +14,7 @@
 
 use super::catalog_match::bounds_mm;
 use super::compare::{catalog_merge, catalog_splits};
-use super::picture::{edge_profile, picture_check, ViewPicture};
+use super::picture::{edge_profile, pictures_mismatch, ViewPicture};
 use super::verify::{compare_drawings, draw_hypothesis, mismatched_features};
 use super::{Camera, ObservedView};
 use crate::drawing::{LineDrawing, LineKind};
@@ -375,21 +375,26 @@ fn redraw_explains_in_pictures(
     pictures: &[ViewPicture],
     tol_px: f64,
 ) -> bool {
-    views
+    let alt_drawn: Vec<LineDrawing> = views
         .iter()
-        .zip(drawn)
-        .zip(pictures)
-        .all(|((v, answer), pic)| {
-            let alt_drawn = draw_hypothesis(alt, &v.camera);
-            if !picture_check(&alt_drawn, &v.drawing, pic, tol_px).is_explained() {
-                return false;
-            }
-            let lacked = mismatched_features(answer, &alt_drawn, tol_px).extra_lines;
-            !lacked.iter().any(|&k| {
-                let [i, j] = answer.lines[k];
-                edge_profile(pic, answer.points[i], answer.points[j]).confirms()
+        .map(|v| draw_hypothesis(alt, &v.camera))
+        .collect();
+    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+    let explained = pictures_mismatch(&alt_drawn, &observed, pictures, tol_px)
+        .iter()
+        .all(|m| m.counts().is_explained());
+    explained
+        && drawn
+            .iter()
+            .zip(&alt_drawn)
+            .zip(pictures)
+            .all(|((answer, alt), pic)| {
+                let lacked = mismatched_features(answer, alt, tol_px).extra_lines;
+                !lacked.iter().any(|&k| {
+                    let [i, j] = answer.lines[k];
+                    edge_profile(pic, answer.points[i], answer.points[j]).confirms()
+                })
             })
-        })
 }
 
 #[cfg(test)]

@@ -59,8 +59,8 @@ pub use parallelogram::{
     ParallelogramSearch, TopCorner,
 };
 pub use picture::{
-    edge_profile, picture_check, picture_mismatch, without_weak_lines, EdgeProfile, ViewPicture,
-    CRACK_ALLOWANCE_MM,
+    edge_profile, picture_check, picture_mismatch, pictures_mismatch, without_weak_lines,
+    EdgeProfile, ViewPicture, CRACK_ALLOWANCE_MM,
 };
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
 pub use trapezoid::{
@@ -456,21 +456,21 @@ fn find_hypothesis(
     choose_hypothesis(&pool, views, limits)
 }
 
-/// Each view's step-6 comparison of `h`, by the picture-aware check where the drawings alone
-/// do not explain the view and its picture is given.
+/// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check
+/// ([`pictures_mismatch`]) unless the drawings alone explain every view.
 fn checks_in_pictures(
     h: &Hypothesis,
     views: &[ObservedView],
     pictures: &[ViewPicture],
     tol_px: f64,
 ) -> Vec<ViewCheck> {
-    (0..views.len())
-        .map(|k| match pictures.get(k) {
-            Some(pic) if !h.checks[k].is_explained() => {
-                picture_check(&h.drawn[k], &views[k].drawing, pic, tol_px)
-            }
-            _ => h.checks[k],
-        })
+    if pictures.len() != views.len() || h.checks.iter().all(ViewCheck::is_explained) {
+        return h.checks.clone();
+    }
+    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+    pictures_mismatch(&h.drawn, &observed, pictures, tol_px)
+        .iter()
+        .map(ViewMismatch::counts)
         .collect()
 }
 

@@ -65,10 +65,10 @@ pub const NOISE_MULTIPLE: f64 = 2.5;
 pub const MIN_SHARE: f64 = 0.5;
 /// A drawing line the redraw lacks is tolerated when its median step across is under this,
 /// gray levels, and no crack runs along it: Chapter VI's threshold of 80 on the smoothed Sobel
-/// magnitude answers to steps of about 20 levels and more, so a line this weak was drawn from
-/// soft shading (a cast shadow's boundary within one face) or by the faint-edge step; faces
-/// of a block against the floor or another face differ by far more.
-pub const WEAK_STEP_LEVELS: f64 = 10.0;
+/// magnitude (eq. 2.1; a sharp step of h levels gives 4h) answers to steps of 20 levels and
+/// more, so a line this weak was not seen by the thesis's threshold: the front end drew it
+/// from soft shading (a cast shadow's boundary within one face) or by the faint-edge step.
+pub const WEAK_STEP_LEVELS: f64 = 20.0;
 /// Lines shorter than this are fragments, px (no sample fits between their end margins).
 pub const FRAGMENT_PX: f64 = 2.0 * END_MARGIN_PX + 3.0;
 /// Ends of a line skipped by the samples, px (other edges meet there).
@@ -377,5 +377,71 @@ pub fn without_weak_lines(
         .map(|&k| k - weak.iter().filter(|&&w| w < k).count())
         .collect();
     out.finalize();
+    out
+}
+
+/// Step 6 with the pictures over all views at once: each view's [`picture_mismatch`] (or
+/// none, when its drawing alone is explained), then a redrawn edge the picture shows nothing
+/// along at all (no step or crack reaching the minimum on [`MIN_SHARE`] of it: two faces lit
+/// alike, no line to read) is accepted when the same edge of the same block is explained in
+/// another view (by its drawing or its picture): the edge exists, this view's light hides it.
+/// Its ends are then accepted as in [`picture_mismatch`].
+pub fn pictures_mismatch(
+    drawn: &[LineDrawing],
+    observed: &[&LineDrawing],
+    pictures: &[ViewPicture],
+    tol_px: f64,
+) -> Vec<ViewMismatch> {
+    let mut out: Vec<ViewMismatch> = (0..drawn.len())
+        .map(|k| match pictures.get(k) {
+            Some(pic) => picture_mismatch(&drawn[k], observed[k], pic, tol_px),
+            None => mismatched_features(&drawn[k], observed[k], tol_px),
+        })
+        .collect();
+    let explained_elsewhere = |k: usize, e: &crate::drawing::EdgeRef, out: &[ViewMismatch]| {
+        (0..drawn.len()).filter(|&j| j != k).any(|j| {
+            (0..drawn[j].lines.len()).any(|l| {
+                drawn[j].edges.get(l).is_some_and(|f| {
+                    f.block == e.block
+                        && f.vertices == e.vertices
+                        && !out[j].extra_lines.contains(&l)
+                })
+            })
+        })
+    };
+    let mut hidden_by_light: Vec<Vec<usize>> = vec![Vec::new(); drawn.len()];
+    for k in 0..drawn.len() {
+        let Some(pic) = pictures.get(k) else { continue };
+        let d = &drawn[k];
+        for &l in &out[k].extra_lines {
+            let [i, j] = d.lines[l];
+            let flat = edge_profile(pic, d.points[i], d.points[j]);
+            let shows_nothing = flat.samples > 0
+                && flat.step_share < MIN_SHARE
+                && flat.crack_share < MIN_SHARE
+                && flat.step_levels.abs() < pic.min_step_levels();
+            if shows_nothing
+                && d.edges
+                    .get(l)
+                    .is_some_and(|e| explained_elsewhere(k, e, &out))
+            {
+                hidden_by_light[k].push(l);
+            }
+        }
+    }
+    for (k, m) in out.iter_mut().enumerate() {
+        let hidden = &hidden_by_light[k];
+        if hidden.is_empty() {
+            continue;
+        }
+        m.extra_lines.retain(|l| !hidden.contains(l));
+        let d = &drawn[k];
+        let left = m.extra_lines.clone();
+        m.extra_points.retain(|&p| {
+            let accepted = lines_at(d, p).all(|l| !left.contains(&l))
+                && lines_at(d, p).any(|l| hidden.contains(&l));
+            !accepted
+        });
+    }
     out
 }
