@@ -549,7 +549,17 @@ pub fn recognize_in_pictures(
         });
     }
     views.iter().try_for_each(check_drawing)?;
-    let pictures: Vec<ViewPicture> = pictures.iter().map(|g| ViewPicture::new(g)).collect();
+    let pictures: Vec<ViewPicture> = views
+        .iter()
+        .zip(pictures)
+        .map(|(v, g)| ViewPicture::new(g, &v.camera))
+        .collect();
+    // Pictures too coarse for the tolerance are not read at all (`ViewPicture::fine_enough`).
+    let pictures = if pictures.iter().all(|p| p.fine_enough(opts.tol_px)) {
+        pictures
+    } else {
+        Vec::new()
+    };
     let mut views = normalize_views(views);
     for (v, pic) in views.iter_mut().zip(&pictures) {
         let mut off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
