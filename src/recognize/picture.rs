@@ -152,7 +152,7 @@ fn median(v: &mut [f64]) -> f64 {
 /// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
 pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let len = a.distance(b);
-    if !(len >= FRAGMENT_PX) {
+    if len.is_nan() || len < FRAGMENT_PX {
         return EdgeProfile::default();
     }
     let u = (b - a) / len;
