@@ -126,6 +126,9 @@ pub struct EdgeProfile {
     /// Share of samples where a narrow line darker than both sides by the minimum runs (a
     /// crack), at the offset where it is highest.
     pub crack_share: f64,
+    /// The same at the offsets where the two sides are even (median step under the minimum):
+    /// a crack between faces alike, not the dark edge of a shadow's core beside its step.
+    pub even_crack_share: f64,
 }
 
 impl EdgeProfile {
@@ -136,11 +139,11 @@ impl EdgeProfile {
     }
 
     /// `true` when the picture shows no block edge along the segment: too short to read, or
-    /// no crack and a median step under [`WEAK_STEP_LEVELS`] (a shadow's boundary within one
-    /// face, a penumbra's ramp).
+    /// no crack between even sides and a median step under [`WEAK_STEP_LEVELS`] (a shadow's
+    /// boundary within one face, a penumbra's ramp).
     pub fn is_weak(&self) -> bool {
         self.samples == 0
-            || (self.crack_share < MIN_SHARE && self.step_levels.abs() < WEAK_STEP_LEVELS)
+            || (self.even_crack_share < MIN_SHARE && self.step_levels.abs() < WEAK_STEP_LEVELS)
     }
 }
 
@@ -200,6 +203,9 @@ pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
             best.step_share = step_share;
         }
         best.crack_share = best.crack_share.max(crack_share);
+        if m.abs() < min_step {
+            best.even_crack_share = best.even_crack_share.max(crack_share);
+        }
     }
     best
 }
@@ -549,6 +555,14 @@ mod tests {
         assert!(read(&shadow).is_weak());
         assert!(!read(&strong).is_weak());
         assert!(!read(&crack).is_weak(), "a crack is never tolerated");
+        // A shadow's core: a dark px beside a 7-level step is no crack between even sides.
+        let core = picture(&camera, 120, |p| match p.x {
+            x if (200.0..201.0).contains(&x) => Some(113),
+            x if x > 201.0 => Some(127),
+            _ => None,
+        });
+        assert!(read(&core).crack_share >= MIN_SHARE, "{:?}", read(&core));
+        assert!(read(&core).is_weak(), "{:?}", read(&core));
         // Moved 6 px off the step, the line is not confirmed.
         let off = edge_profile(
             &ViewPicture::new(&step, &camera),
