@@ -27,6 +27,59 @@ pub const WORLD_HALF_EXTENT_MM: f64 = 10_000.0;
 /// The world's height, mm: no block vertex lies above this (README "Conventions").
 pub const WORLD_HEIGHT_MM: f64 = 10_000.0;
 
+/// `x.floor()` as an integer (saturating at the ends of `i64`, 0 for NaN, like `as i64`),
+/// without the library call `f64::floor` compiles to on baseline x86-64: it runs for every
+/// pixel sampled near a line (the vision front end's line finder, the recognizer's reading of
+/// the picture).
+#[inline(always)]
+pub fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    t.saturating_sub(i64::from((t as f64) > x))
+}
+
+/// Gray level at picture point `p` (px, y up; the pixel whose square holds it), `None` outside
+/// the picture. The one home of reading a picture at a point: the vision front end reads its
+/// lines' profiles with it, the recognizer's picture-aware check its hypotheses' edges.
+pub fn gray_at(gray: &image::GrayImage, p: DVec2) -> Option<f64> {
+    let (w, h) = gray.dimensions();
+    let (x, y) = (floor_i64(p.x), floor_i64(p.y));
+    if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
+        return None;
+    }
+    let row = h as usize - 1 - y as usize;
+    Some(f64::from(gray.as_raw()[row * w as usize + x as usize]))
+}
+
+/// Every this many rows of the picture are read by [`noise_levels`]: a quarter of a 512 x 480
+/// picture's neighbour differences (61,000) pins their median as well as all of them do.
+const NOISE_ROW_STEP: usize = 4;
+
+/// The picture's noise sigma, gray levels: the median absolute difference of horizontally
+/// neighbouring pixels (on every [`NOISE_ROW_STEP`]-th row) times 1.4826 / sqrt(2) (a face is
+/// flat, so most differences are noise; a difference of two pixels has sigma sqrt(2) times
+/// theirs).
+pub fn noise_levels(gray: &image::GrayImage) -> f64 {
+    let mut hist = [0usize; 256];
+    let w = gray.width() as usize;
+    if w < 2 {
+        return 0.0;
+    }
+    for row in gray.as_raw().chunks(w).step_by(NOISE_ROW_STEP) {
+        for pair in row.windows(2) {
+            hist[usize::from(pair[0].abs_diff(pair[1]))] += 1;
+        }
+    }
+    let total: usize = hist.iter().sum();
+    let mut seen = 0;
+    for (d, &c) in hist.iter().enumerate() {
+        seen += c;
+        if 2 * seen > total {
+            return d as f64 * 1.4826 / std::f64::consts::SQRT_2;
+        }
+    }
+    0.0
+}
+
 /// Which world bound a point breaks, as text such as `"x = 12000 mm is beyond +/-10000 mm"`;
 /// `None` when the point lies in the world (see [`WORLD_HALF_EXTENT_MM`]).
 pub fn outside_world(p_mm: DVec3) -> Option<String> {

@@ -10,7 +10,9 @@
 
 use crate::camera::CornerView;
 use crate::csg::reconstruction;
-use crate::recognize::{equally_good_alternative, recognize, ObservedView, RecognizeOptions};
+use crate::recognize::{
+    equally_good_alternative, recognize_in_pictures, ObservedView, RecognizeOptions,
+};
 use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{Reconstruction, Scene};
 use crate::score::{score_suite_scene, NoReconstruction, SceneResult, ScoreOptions};
@@ -168,7 +170,12 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
                 observe(r, &opts.source).map_err(|e| NoReconstruction(format!("vision: {e}")))?;
             times.vision_ms = vision_ms;
             let t = Instant::now();
-            let recognition = recognize(&views, &opts.recognize)
+            // Step 6 reads the pictures where the drawings were read from them.
+            let pictures: Vec<&image::GrayImage> = match opts.source {
+                DrawingSource::Pictures(_) => r.iter().map(|v| &v.gray).collect(),
+                DrawingSource::Truth => Vec::new(),
+            };
+            let recognition = recognize_in_pictures(&views, &pictures, &opts.recognize)
                 .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
             let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
             times.recognize_ms = ms_since(t);

@@ -14,7 +14,8 @@
 
 use super::catalog_match::bounds_mm;
 use super::compare::{catalog_merge, catalog_splits};
-use super::verify::{compare_drawings, draw_hypothesis};
+use super::picture::{edge_profile, pictures_mismatch, ViewPicture};
+use super::verify::{compare_drawings, draw_hypothesis, mismatched_features};
 use super::{Camera, ObservedView};
 use crate::drawing::{LineDrawing, LineKind};
 use crate::geom::{DVec2, DVec3};
@@ -245,7 +246,7 @@ pub fn equally_good_alternative(
         .iter()
         .map(|v| draw_hypothesis(blocks, &v.camera))
         .collect();
-    alternative_given_drawings(blocks, views, &drawn, tol_px)
+    alternative_given_drawings(blocks, views, &drawn, tol_px, &[])
 }
 
 /// One split or merge of the hypothesis's blocks, with what the hypothesis's own drawings
@@ -340,16 +341,60 @@ fn redraw_explains(alt: &[Block], views: &[ObservedView], tol_px: f64) -> bool {
 
 /// [`equally_good_alternative`] given the hypothesis's own exact drawing in every view (as
 /// step 6 made it): alternatives those drawings refute are not redrawn, nor those they prove
-/// hidden.
+/// hidden. With the views' `pictures` (one per view, or none), step 6 is the picture-aware
+/// check ([`picture_check`]) for the alternatives as for the answer: the drawings' proofs that
+/// an alternative draws a point nothing observed is near no longer hold (the picture may
+/// confirm it), so every alternative not proved hidden is redrawn, and it is refuted also
+/// where the picture confirms a line of the answer that the alternative lacks.
 pub(super) fn alternative_given_drawings(
     blocks: &[Block],
     views: &[ObservedView],
     drawn: &[LineDrawing],
     tol_px: f64,
+    pictures: &[ViewPicture],
 ) -> Option<String> {
+    if pictures.len() != views.len() || views.is_empty() {
+        return alternatives(blocks, views, drawn, tol_px)
+            .find(|a| !a.refuted && (a.hidden || redraw_explains(&a.blocks, views, tol_px)))
+            .map(|a| a.reason(blocks));
+    }
     alternatives(blocks, views, drawn, tol_px)
-        .find(|a| !a.refuted && (a.hidden || redraw_explains(&a.blocks, views, tol_px)))
+        .find(|a| {
+            a.hidden || redraw_explains_in_pictures(&a.blocks, views, drawn, pictures, tol_px)
+        })
         .map(|a| a.reason(blocks))
+}
+
+/// `true` when the exact redraw of `alt` explains every observed view by the picture-aware
+/// check, and no line of the answer's drawing `drawn` that `alt` does not draw is confirmed by
+/// the picture.
+fn redraw_explains_in_pictures(
+    alt: &[Block],
+    views: &[ObservedView],
+    drawn: &[LineDrawing],
+    pictures: &[ViewPicture],
+    tol_px: f64,
+) -> bool {
+    let alt_drawn: Vec<LineDrawing> = views
+        .iter()
+        .map(|v| draw_hypothesis(alt, &v.camera))
+        .collect();
+    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+    let explained = pictures_mismatch(&alt_drawn, &observed, pictures, tol_px)
+        .iter()
+        .all(|m| m.counts().is_explained());
+    explained
+        && drawn
+            .iter()
+            .zip(&alt_drawn)
+            .zip(pictures)
+            .all(|((answer, alt), pic)| {
+                let lacked = mismatched_features(answer, alt, tol_px).extra_lines;
+                !lacked.iter().any(|&k| {
+                    let [i, j] = answer.lines[k];
+                    edge_profile(pic, answer.points[i], answer.points[j]).confirms()
+                })
+            })
 }
 
 #[cfg(test)]

@@ -170,6 +170,7 @@ pub const FLUSH_TOL_MM: f64 = 0.5;
 
 /// The state of the search: chosen blocks (made flush), their exact drawings and per-view
 /// checks (step 6), and the observed points no drawn point explains yet.
+#[derive(Clone)]
 pub(super) struct Hypothesis {
     /// The blocks, touching faces made flush.
     pub blocks: Vec<Block>,

@@ -29,6 +29,7 @@ mod compare;
 mod constraints;
 mod direct;
 mod parallelogram;
+mod picture;
 mod select;
 mod trapezoid;
 mod verify;
@@ -57,6 +58,10 @@ pub use parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
+pub use picture::{
+    edge_profile, picture_check, picture_mismatch, pictures_mismatch, without_weak_lines,
+    EdgeProfile, ViewPicture, CRACK_ALLOWANCE_MM,
+};
 pub use select::{is_searched_junction, select_vertices, SelectedVertex};
 pub use trapezoid::{
     face_gradients, facing_yaw_deg, line_world_direction, sloped_faces, sloped_lines,
@@ -64,7 +69,7 @@ pub use trapezoid::{
 };
 pub use verify::{
     blocks_drawn_in_excess, check_hypothesis, compare_drawings, distance_to_segment_px,
-    draw_hypothesis, ViewCheck,
+    draw_hypothesis, mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch,
 };
 
 use crate::drawing::LineDrawing;
@@ -188,6 +193,14 @@ pub enum RecognizeError {
     /// No views given.
     #[error("no views to recognize: give at least one line drawing with its camera")]
     NoViews,
+    /// Pictures given, but not one per view.
+    #[error("{pictures} pictures for {views} views: give one picture per view, in the views' order, or none")]
+    PictureCount {
+        /// How many views.
+        views: usize,
+        /// How many pictures.
+        pictures: usize,
+    },
     /// A drawing refers to points it does not have, or has non-finite points.
     #[error("view {view}: {problem}; re-create the drawing (lines_<view>.json) with `blockworld render` or the vision front end")]
     BadDrawing {
@@ -401,13 +414,22 @@ fn propose_and_pool(
 /// Step 4's choice. The direct path first, on the candidates read exactly from closed
 /// parallelograms: its hypothesis when its drawing explains every view, else the same without
 /// the blocks it draws in excess. Failing that, every candidate is pooled and the search
-/// continues from there, then starts from nothing.
+/// continues from there, then starts from nothing. With the views' `pictures`, a hypothesis
+/// that the drawings alone do not explain is taken when the picture-aware check explains it
+/// ([`picture_check`]), the direct one before the pruned one.
 fn find_hypothesis(
     views: &[ObservedView],
     opts: &RecognizeOptions,
     (limits, trapezoids): (&SearchLimits, bool),
+    pictures: &[ViewPicture],
     evidence: &mut Evidence,
 ) -> Hypothesis {
+    let explained = |h: &Hypothesis| {
+        !pictures.is_empty()
+            && checks_in_pictures(h, views, pictures, limits.tol_px)
+                .iter()
+                .all(ViewCheck::is_explained)
+    };
     let silhouettes = Silhouettes::new(views);
     let direct_within = (Some(&silhouettes), trapezoids);
     let exact = propose_and_pool(views, opts, direct_within, evidence);
@@ -416,16 +438,40 @@ fn find_hypothesis(
     if direct.mismatch() == 0 {
         return direct;
     }
-    let pruned = without_excess(direct, views, limits.tol_px);
+    let pruned = without_excess(direct.clone(), views, limits.tol_px);
     if pruned.mismatch() == 0 {
+        return pruned;
+    }
+    if explained(&direct) {
+        return direct;
+    }
+    if explained(&pruned) {
         return pruned;
     }
     let pool = propose_and_pool(views, opts, (None, trapezoids), evidence);
     let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
-    if continued.mismatch() == 0 {
+    if continued.mismatch() == 0 || explained(&continued) {
         return continued;
     }
     choose_hypothesis(&pool, views, limits)
+}
+
+/// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check
+/// ([`pictures_mismatch`]) unless the drawings alone explain every view.
+fn checks_in_pictures(
+    h: &Hypothesis,
+    views: &[ObservedView],
+    pictures: &[ViewPicture],
+    tol_px: f64,
+) -> Vec<ViewCheck> {
+    if pictures.len() != views.len() || h.checks.iter().all(ViewCheck::is_explained) {
+        return h.checks.clone();
+    }
+    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+    pictures_mismatch(&h.drawn, &observed, pictures, tol_px)
+        .iter()
+        .map(ViewMismatch::counts)
+        .collect()
 }
 
 /// `h` without every block that draws a line no observed line explains, in some view (a
@@ -446,18 +492,22 @@ fn without_excess(h: Hypothesis, views: &[ObservedView], tol_px: f64) -> Hypothe
     Hypothesis::new(kept, views, tol_px)
 }
 
-/// Step 6 and Chapter VII on the chosen blocks: why to decline, if at all.
+/// Step 6 and Chapter VII on the chosen blocks: why to decline, if at all (step 6 by the
+/// picture-aware check when the views' pictures are given).
 fn final_checks(
     h: &Hypothesis,
     views: &[ObservedView],
+    pictures: &[ViewPicture],
     opts: &RecognizeOptions,
 ) -> Option<Decline> {
     let blocks = &h.blocks[..];
-    if let Some((v, c)) = views.iter().zip(&h.checks).find(|(_, c)| !c.is_explained()) {
+    let checks = checks_in_pictures(h, views, pictures, opts.tol_px);
+    if let Some((v, c)) = views.iter().zip(&checks).find(|(_, c)| !c.is_explained()) {
         let view = v.camera.view.name().to_string();
         return Some(Decline::Unexplained { view, check: *c });
     }
-    if let Some(detail) = alternative_given_drawings(blocks, views, &h.drawn, opts.tol_px) {
+    let alternative = alternative_given_drawings(blocks, views, &h.drawn, opts.tol_px, pictures);
+    if let Some(detail) = alternative {
         return Some(Decline::Ambiguous { detail });
     }
     if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
@@ -475,11 +525,51 @@ pub fn recognize(
     views: &[ObservedView],
     opts: &RecognizeOptions,
 ) -> Result<Recognition, RecognizeError> {
+    recognize_in_pictures(views, &[], opts)
+}
+
+/// [`recognize`] with the pictures the views' drawings were read from (one per view, in the
+/// same order; none = [`recognize`]): step 6 then asks the picture where a hypothesis's exact
+/// redraw and a vision drawing differ ([`picture_check`], README "Recognizer"): an edge too
+/// faint for the front end is confirmed by a step or crack across it, a drawing feature the
+/// redraw lacks is tolerated only when the picture shows it weak. The answer still comes from
+/// the drawings alone.
+pub fn recognize_in_pictures(
+    views: &[ObservedView],
+    pictures: &[&image::GrayImage],
+    opts: &RecognizeOptions,
+) -> Result<Recognition, RecognizeError> {
     if views.is_empty() {
         return Err(RecognizeError::NoViews);
     }
+    if !pictures.is_empty() && pictures.len() != views.len() {
+        return Err(RecognizeError::PictureCount {
+            views: views.len(),
+            pictures: pictures.len(),
+        });
+    }
     views.iter().try_for_each(check_drawing)?;
-    let views = &normalize_views(views)[..];
+    let pictures: Vec<ViewPicture> = views
+        .iter()
+        .zip(pictures)
+        .map(|(v, g)| ViewPicture::new(g, &v.camera))
+        .collect();
+    // Pictures too coarse for the tolerance are not read at all (`ViewPicture::fine_enough`).
+    let pictures = if pictures.iter().all(|p| p.fine_enough(opts.tol_px)) {
+        pictures
+    } else {
+        Vec::new()
+    };
+    let mut views = normalize_views(views);
+    for (v, pic) in views.iter_mut().zip(&pictures) {
+        let mut off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
+        off.extend(v.drawing.unclassified_lines.iter().copied());
+        off.retain(|k| !v.drawing.curved_lines.contains(k));
+        if !off.is_empty() {
+            v.drawing = without_weak_lines(&v.drawing, &off, pic);
+        }
+    }
+    let views = &views[..];
     let mut evidence = Evidence::default();
     let trapezoids = match check_directions(views, opts) {
         Ok(t) => t,
@@ -492,7 +582,8 @@ pub fn recognize(
         max_blocks: opts.max_blocks,
         repair_rounds: opts.repair_rounds,
     };
-    let h = find_hypothesis(views, opts, (&limits, trapezoids), &mut evidence);
+    let search = (&limits, trapezoids);
+    let h = find_hypothesis(views, opts, search, &pictures, &mut evidence);
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;
@@ -500,7 +591,7 @@ pub fn recognize(
         ev.extra_lines = c.extra_lines;
     }
     evidence.hypothesis = h.blocks.clone();
-    if let Some(d) = final_checks(&h, views, opts) {
+    if let Some(d) = final_checks(&h, views, &pictures, opts) {
         let placed = h
             .blocks
             .iter()

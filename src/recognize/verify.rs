@@ -208,25 +208,108 @@ fn line_explained(from: &LineDrawing, line: [usize; 2], index: &LineIndex, tol_p
 
 /// Compares a drawn (hypothesis) drawing with the observed one, tolerance `tol_px`.
 pub fn compare_drawings(drawn: &LineDrawing, observed: &LineDrawing, tol_px: f64) -> ViewCheck {
-    let count_points = |from: &LineDrawing, to: &LineDrawing| {
-        from.points
-            .iter()
-            .filter(|p| !near_point(**p, &to.points, tol_px))
-            .count()
-    };
-    let count_lines = |from: &LineDrawing, to: &LineDrawing| {
-        let index = LineIndex::new(to, tol_px);
-        from.lines
-            .iter()
-            .filter(|l| !line_explained(from, **l, &index, tol_px))
-            .count()
-    };
-    ViewCheck {
-        unexplained_points: count_points(observed, drawn),
-        extra_points: count_points(drawn, observed),
-        unexplained_lines: count_lines(observed, drawn),
-        extra_lines: count_lines(drawn, observed),
+    mismatched_features(drawn, observed, tol_px).counts()
+}
+
+/// What one view's comparison found, feature by feature: indices of the points and lines of
+/// either drawing that the other does not explain (the counts of [`ViewCheck`]).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ViewMismatch {
+    /// Observed points with no drawn point within the tolerance.
+    pub unexplained_points: Vec<usize>,
+    /// Drawn points that nothing observed is near.
+    pub extra_points: Vec<usize>,
+    /// Observed lines not along any drawn line.
+    pub unexplained_lines: Vec<usize>,
+    /// Drawn lines not along any observed line.
+    pub extra_lines: Vec<usize>,
+}
+
+impl ViewMismatch {
+    /// The four counts.
+    pub fn counts(&self) -> ViewCheck {
+        ViewCheck {
+            unexplained_points: self.unexplained_points.len(),
+            extra_points: self.extra_points.len(),
+            unexplained_lines: self.unexplained_lines.len(),
+            extra_lines: self.extra_lines.len(),
+        }
     }
+}
+
+/// [`compare_drawings`] feature by feature: which points and lines of `drawn` and `observed`
+/// the other drawing does not explain (step 6's check, README "Recognizer").
+pub fn mismatched_features(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    tol_px: f64,
+) -> ViewMismatch {
+    let points = |from: &LineDrawing, to: &LineDrawing| -> Vec<usize> {
+        (0..from.points.len())
+            .filter(|&i| !near_point(from.points[i], &to.points, tol_px))
+            .collect()
+    };
+    let lines = |from: &LineDrawing, to: &LineDrawing| -> Vec<usize> {
+        let index = LineIndex::new(to, tol_px);
+        (0..from.lines.len())
+            .filter(|&k| !line_explained(from, from.lines[k], &index, tol_px))
+            .collect()
+    };
+    ViewMismatch {
+        unexplained_points: points(observed, drawn),
+        extra_points: points(drawn, observed),
+        unexplained_lines: lines(observed, drawn),
+        extra_lines: lines(drawn, observed),
+    }
+}
+
+/// The pieces of line `line` of `from` that lie along no line of `to`: its points every px
+/// (and its ends) tested as [`compare_drawings`] tests a line's five samples (within `tol_px`
+/// of a parallel line of `to`), the maximal runs of untested-or-failing points returned as
+/// segments from the first to the last failing point.
+pub fn unexplained_pieces(
+    from: &LineDrawing,
+    line: [usize; 2],
+    to: &LineDrawing,
+    tol_px: f64,
+) -> Vec<[DVec2; 2]> {
+    let (a, b) = (from.points[line[0]], from.points[line[1]]);
+    let dir = b - a;
+    let len = dir.length();
+    if len == 0.0 || !len.is_finite() {
+        return Vec::new();
+    }
+    let x = 2.0 * tol_px / len;
+    let sin_max = (x / (1.0 + x * x).sqrt()).max(3f64.to_radians().sin());
+    let along: Vec<(DVec2, DVec2, f64)> = to
+        .lines
+        .iter()
+        .map(|&[i, j]| {
+            (
+                to.points[i],
+                to.points[j],
+                to.points[i].distance(to.points[j]),
+            )
+        })
+        .filter(|&(c, d, l)| l > 0.0 && (d - c).perp_dot(dir).abs() <= sin_max * l * len)
+        .collect();
+    let steps = len.ceil() as usize;
+    let mut pieces = Vec::new();
+    let mut run: Option<[DVec2; 2]> = None;
+    for k in 0..=steps {
+        let s = a.lerp(b, k as f64 / steps as f64);
+        let ok = along
+            .iter()
+            .any(|&(c, d, _)| distance_to_segment_px(s, c, d) <= tol_px);
+        match (ok, run.as_mut()) {
+            (false, Some(r)) => r[1] = s,
+            (false, None) => run = Some([s, s]),
+            (true, Some(_)) => pieces.extend(run.take()),
+            (true, None) => {}
+        }
+    }
+    pieces.extend(run);
+    pieces
 }
 
 /// The blocks (indices into the drawn hypothesis) owning a line of `drawn` that no observed

@@ -14,7 +14,7 @@
 
 use super::lines::{gray_at, EdgeDirection};
 use crate::drawing::{EdgeAxis, LineDrawing};
-use crate::geom::DVec2;
+use crate::geom::{noise_levels, DVec2};
 use image::GrayImage;
 
 /// Options of [`add_faint_edges`].
@@ -57,36 +57,6 @@ pub const NOISE_MULTIPLE: f64 = 3.5;
 const END_MARGIN_PX: f64 = 4.0;
 /// A point this close to the segment between two vertices stands on it, px.
 const ON_SEGMENT_PX: f64 = 2.0;
-
-/// Every this many rows of the picture are read by [`noise_levels`]: a quarter of a 512 x 480
-/// picture's neighbour differences (61,000) pins their median as well as all of them do.
-const NOISE_ROW_STEP: usize = 4;
-
-/// The picture's noise sigma, gray levels: the median absolute difference of horizontally
-/// neighbouring pixels (on every [`NOISE_ROW_STEP`]-th row) times 1.4826 / sqrt(2) (a face is
-/// flat, so most differences are noise; a difference of two pixels has sigma sqrt(2) times
-/// theirs).
-pub fn noise_levels(gray: &GrayImage) -> f64 {
-    let mut hist = [0usize; 256];
-    let w = gray.width() as usize;
-    if w < 2 {
-        return 0.0;
-    }
-    for row in gray.as_raw().chunks(w).step_by(NOISE_ROW_STEP) {
-        for pair in row.windows(2) {
-            hist[usize::from(pair[0].abs_diff(pair[1]))] += 1;
-        }
-    }
-    let total: usize = hist.iter().sum();
-    let mut seen = 0;
-    for (d, &c) in hist.iter().enumerate() {
-        seen += c;
-        if 2 * seen > total {
-            return d as f64 * 1.4826 / std::f64::consts::SQRT_2;
-        }
-    }
-    0.0
-}
 
 /// `true` when the picture shows an edge along `a`-`b`: at most samples (every px,
 /// away from the ends) the brightness changes by at least `min_step` within 2 px across it.

@@ -25,7 +25,8 @@
 
 use crate::camera::Camera;
 use crate::drawing::EdgeAxis;
-use crate::geom::{DVec2, DVec3};
+pub(super) use crate::geom::gray_at;
+use crate::geom::{floor_i64, DVec2, DVec3};
 use image::GrayImage;
 
 /// Options of the line finder; every length is in picture pixels.
@@ -237,15 +238,6 @@ pub fn fit_line_least_squares(points: &[DVec2]) -> Option<(DVec2, DVec2, f64)> {
     let normal = dir.perp();
     let ss: f64 = points.iter().map(|p| normal.dot(*p - c).powi(2)).sum();
     Some((c, dir, (ss / n).sqrt()))
-}
-
-/// `x.floor()` as an integer (saturating at the ends of `i64`, 0 for NaN, like `as i64`),
-/// without the library call `f64::floor` compiles to on baseline x86-64: it runs for every
-/// pixel sampled near a line.
-#[inline(always)]
-fn floor_i64(x: f64) -> i64 {
-    let t = x as i64;
-    t.saturating_sub(i64::from((t as f64) > x))
 }
 
 /// One supporting pixel: offset across and position along its direction, and its picture point.
@@ -823,17 +815,6 @@ const SEAM_SEARCH_PX: f64 = 2.5;
 const SEAM_END_MARGIN_PX: f64 = 5.0;
 /// A seam pixel is compared with the pixels this far away on either side, px.
 const SEAM_SIDE_PX: f64 = 2.0;
-
-/// Gray level at picture point `p` (nearest pixel), `None` outside the picture.
-pub(super) fn gray_at(gray: &GrayImage, p: DVec2) -> Option<f64> {
-    let (w, h) = gray.dimensions();
-    let (x, y) = (floor_i64(p.x), floor_i64(p.y));
-    if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
-        return None;
-    }
-    let row = h as usize - 1 - y as usize;
-    Some(f64::from(gray.as_raw()[row * w as usize + x as usize]))
-}
 
 /// The seam pixels of `l` (see [`refine_lines_on_seams`]): the pixels within
 /// `SEAM_SEARCH_PX` of the line, between its ends less a margin, darker by at least

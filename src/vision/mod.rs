@@ -37,6 +37,7 @@ mod lines;
 mod soft;
 mod vertices;
 
+pub use crate::geom::noise_levels;
 pub use curves::{add_curved_edges, find_curved_edges, fit_circle, residue_map, CurvedEdge};
 pub use edges::{
     detect_edges, edge_map, smooth_3x3, sobel_magnitude, threshold, threshold_hysteresis,
@@ -47,7 +48,7 @@ pub use eval::{
     line_angle_errors_deg, match_vertices, match_vertices_with_tolerances, MatchTolerances,
     VertexMatch,
 };
-pub use faint::{add_faint_edges, noise_levels, FaintEdgeOptions};
+pub use faint::{add_faint_edges, FaintEdgeOptions};
 pub use gaps::{bridge_free_ends, GapOptions};
 pub use lines::{
     edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,

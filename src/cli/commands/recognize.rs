@@ -9,7 +9,7 @@ use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
-use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
+use blockworld::recognize::{recognize_in_pictures, ObservedView, RecognizeOptions};
 use blockworld::scene::reconstruction_to_json;
 use blockworld::vision::{detect_line_drawing_with_progress, VisionOptions, VISION_STEPS};
 use std::path::{Path, PathBuf};
@@ -36,8 +36,13 @@ pub struct Args {
     pub debug_dir: Option<PathBuf>,
 }
 
-/// Reads one view of `dir`: its camera and its drawing (exact, or from the picture).
-fn read_view(dir: &Path, view: CornerView, from_truth: bool) -> anyhow::Result<ObservedView> {
+/// Reads one view of `dir`: its camera and its drawing (exact, or from the picture, which is
+/// then returned too for step 6's picture-aware check).
+fn read_view(
+    dir: &Path,
+    view: CornerView,
+    from_truth: bool,
+) -> anyhow::Result<(ObservedView, Option<image::GrayImage>)> {
     let v = view.name();
     let camera_path = dir.join(format!("camera_{v}.json"));
     if !camera_path.exists() {
@@ -54,18 +59,18 @@ fn read_view(dir: &Path, view: CornerView, from_truth: bool) -> anyhow::Result<O
             camera.view.name()
         );
     }
-    let drawing = if from_truth {
-        read_drawing(&dir.join(format!("lines_{v}.json")))?
-    } else {
-        let picture = dir.join(format!("view_{v}.png"));
-        let gray = read_picture(&picture)?;
-        with_progress(&format!("vision {v}"), "steps", VISION_STEPS, |p| {
-            detect_line_drawing_with_progress(&gray, &camera, &VisionOptions::default(), p)
-        })
-        .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
-        .drawing
-    };
-    Ok(ObservedView { drawing, camera })
+    if from_truth {
+        let drawing = read_drawing(&dir.join(format!("lines_{v}.json")))?;
+        return Ok((ObservedView { drawing, camera }, None));
+    }
+    let picture = dir.join(format!("view_{v}.png"));
+    let gray = read_picture(&picture)?;
+    let drawing = with_progress(&format!("vision {v}"), "steps", VISION_STEPS, |p| {
+        detect_line_drawing_with_progress(&gray, &camera, &VisionOptions::default(), p)
+    })
+    .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
+    .drawing;
+    Ok((ObservedView { drawing, camera }, Some(gray)))
 }
 
 /// Runs `blockworld recognize`.
@@ -78,12 +83,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let observed = views
+    let (observed, pictures): (Vec<ObservedView>, Vec<Option<image::GrayImage>>) = views
         .iter()
         .map(|&v| read_view(&args.dir, v, args.from_truth))
-        .collect::<anyhow::Result<Vec<_>>>()?;
+        .collect::<anyhow::Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
+    let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
     let opts = RecognizeOptions::default();
-    let recognition = recognize(&observed, &opts)
+    let recognition = recognize_in_pictures(&observed, &pictures, &opts)
         .with_context(|| format!("recognizing {}", args.dir.display()))?;
     if let Some(debug) = &args.debug_dir {
         super::recognize_debug::write_debug_files(
