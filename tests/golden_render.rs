@@ -655,15 +655,7 @@ fn gl_backend_renders_the_same_pixels_as_vulkan() {
 #[ignore]
 fn print_cost_of_render_pixels_of_the_10_block_stack() {
     let Some(renderer) = renderer() else { return };
-    let blocks: Vec<Block> = (0..10usize)
-        .map(|k| {
-            let (layer, i) = (k / 9, k % 9);
-            let x = (i % 3) as f64 * 15.0;
-            let z = (i / 3) as f64 * 15.0;
-            Block::new("b15", DVec3::new(x, layer as f64 * 15.0 + 7.5, z), 0.0)
-        })
-        .collect();
-    let scene = Scene::new("bench_10", blocks);
+    let scene = blockworld::scene::b15_layers(10, 3, "bench_10".to_string());
     let views: usize = std::env::var("VIEWS")
         .ok()
         .and_then(|s| s.parse().ok())

@@ -345,17 +345,8 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
 #[test]
 #[ignore]
 fn print_cost_of_the_12_block_stack() {
-    use blockworld::geom::DVec3;
-    use blockworld::scene::Block;
-    let blocks: Vec<Block> = (0..12usize)
-        .map(|k| {
-            let (layer, i) = (k / 9, k % 9);
-            let x = (i % 3) as f64 * 15.0;
-            let z = (i / 3) as f64 * 15.0;
-            Block::new("b15", DVec3::new(x, layer as f64 * 15.0 + 7.5, z), 0.0)
-        })
-        .collect();
-    let views = truth_views(&Scene::new("bench_12", blocks), &CornerView::ALL);
+    let scene = blockworld::scene::b15_layers(12, 3, "bench_12".to_string());
+    let views = truth_views(&scene, &CornerView::ALL);
     let reps: usize = std::env::var("REPS")
         .ok()
         .and_then(|s| s.parse().ok())

@@ -27,6 +27,25 @@ use crate::geom::{bounds3, outside_world, touching_box_pairs, DVec3, CONTACT_TOL
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 
+/// `n` Baustein 15 in layers of `side` x `side` touching cubes, filled layer by layer from the
+/// floor (a stable stack whose every view shows seams): the one stack generator of the
+/// benchmarks (README "Benchmarks") and of the tests that count their cost.
+pub fn b15_layers(n: usize, side: usize, name: String) -> Scene {
+    let side = side.max(1);
+    let blocks = (0..n)
+        .map(|i| {
+            let (layer, cell) = (i / (side * side), i % (side * side));
+            let centre = DVec3::new(
+                (cell % side) as f64 * 15.0,
+                layer as f64 * 15.0 + 7.5,
+                (cell / side) as f64 * 15.0,
+            );
+            Block::new("b15", centre, 0.0)
+        })
+        .collect();
+    Scene::new(name, blocks)
+}
+
 /// How a block's orientation was given in its scene file; kept so a file round-trips as written.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Orientation {

@@ -8,10 +8,9 @@
 
 use anyhow::Context;
 use blockworld::camera::CornerView;
-use blockworld::geom::DVec3;
 use blockworld::output::{encode_png_gray16, encode_png_gray8};
 use blockworld::render::{Backend, RenderOptions, Renderer};
-use blockworld::scene::{Block, Scene};
+use blockworld::scene::{b15_layers, Scene};
 use std::time::{Duration, Instant};
 
 /// Options of `blockworld bench render`.
@@ -31,25 +30,6 @@ pub struct Args {
 /// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
 pub fn bench_scene(n: usize) -> Scene {
     b15_layers(n, 3, format!("bench_{n}"))
-}
-
-/// `n` Baustein 15 in layers of `side` x `side` touching cubes, filled layer by layer from the
-/// floor (a stable stack whose every view shows seams): the one stack generator of the
-/// benchmarks.
-pub fn b15_layers(n: usize, side: usize, name: String) -> Scene {
-    let side = side.max(1);
-    let blocks = (0..n)
-        .map(|i| {
-            let (layer, cell) = (i / (side * side), i % (side * side));
-            let centre = DVec3::new(
-                (cell % side) as f64 * 15.0,
-                layer as f64 * 15.0 + 7.5,
-                (cell / side) as f64 * 15.0,
-            );
-            Block::new("b15", centre, 0.0)
-        })
-        .collect();
-    Scene::new(name, blocks)
 }
 
 /// Runs `blockworld bench render`.

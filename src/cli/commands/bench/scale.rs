@@ -6,12 +6,12 @@
 
 use super::fastest_ms;
 use super::machine::banner;
-use super::render::b15_layers;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::physics::{settle, SettleParams};
 use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::{Backend, RenderOptions, Renderer};
+use blockworld::scene::b15_layers;
 use blockworld::scene::{Reconstruction, Scene};
 use blockworld::score::score_reconstruction;
 
