@@ -43,17 +43,18 @@ pub fn step_sharpness(gray: &GrayImage, l: &FittedLine) -> Option<f64> {
                 continue;
             }
         };
-        let near = (-3..=1)
-            .filter_map(|k| {
-                let k = f64::from(k);
-                Some((at(k + 2.0)? - at(k)?).abs())
-            })
+        if across < FLAT_ACROSS_LEVELS {
+            ratios.push(1.0);
+            t += SAMPLE_STEP_PX;
+            continue;
+        }
+        // The levels at -3..=3 px across, each read once; the largest change over 2 px.
+        let level: [Option<f64>; 7] = std::array::from_fn(|j| at(j as f64 - 3.0));
+        let near = level
+            .windows(3)
+            .filter_map(|w| Some((w[2]? - w[0]?).abs()))
             .fold(0.0, f64::max);
-        ratios.push(if across < FLAT_ACROSS_LEVELS {
-            1.0
-        } else {
-            near / across
-        });
+        ratios.push(near / across);
         t += SAMPLE_STEP_PX;
     }
     if ratios.is_empty() {
