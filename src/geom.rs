@@ -41,13 +41,19 @@ pub fn floor_i64(x: f64) -> i64 {
 /// the picture. The one home of reading a picture at a point: the vision front end reads its
 /// lines' profiles with it, the recognizer's picture-aware check its hypotheses' edges.
 pub fn gray_at(gray: &image::GrayImage, p: DVec2) -> Option<f64> {
-    let (w, h) = gray.dimensions();
-    let (x, y) = (floor_i64(p.x), floor_i64(p.y));
-    if x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) {
+    gray_at_px(gray, floor_i64(p.x), floor_i64(p.y))
+}
+
+/// Gray level of the pixel in column `x` and picture row `y` (counted up from the bottom, as
+/// picture y runs; README "Conventions"), `None` outside the picture: [`gray_at`] for a whole
+/// pixel, for walks that step from pixel to pixel without a point.
+#[inline]
+pub fn gray_at_px(gray: &image::GrayImage, x: i64, y: i64) -> Option<f64> {
+    let (w, h) = (i64::from(gray.width()), i64::from(gray.height()));
+    if x < 0 || y < 0 || x >= w || y >= h {
         return None;
     }
-    let row = h as usize - 1 - y as usize;
-    Some(f64::from(gray.as_raw()[row * w as usize + x as usize]))
+    Some(f64::from(gray.as_raw()[((h - 1 - y) * w + x) as usize]))
 }
 
 /// Every this many rows of the picture are read by [`noise_levels`]: a quarter of a 512 x 480

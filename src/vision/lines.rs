@@ -26,7 +26,7 @@
 use crate::camera::Camera;
 use crate::drawing::EdgeAxis;
 pub(super) use crate::geom::gray_at;
-use crate::geom::{floor_i64, DVec2, DVec3};
+use crate::geom::{floor_i64, gray_at_px, DVec2, DVec3};
 use image::GrayImage;
 
 /// Options of the line finder; every length is in picture pixels.
@@ -825,12 +825,7 @@ const SEAM_SIDE_PX: f64 = 2.0;
 fn seam_pixels(gray: &GrayImage, l: &FittedLine, pts: &mut Vec<DVec2>, weights: &mut Vec<f64>) {
     pts.clear();
     weights.clear();
-    let (w, h) = (i64::from(gray.width()), i64::from(gray.height()));
-    let raw = gray.as_raw();
-    let level = |x: i64, y: i64| {
-        let inside = x >= 0 && y >= 0 && x < w && y < h;
-        inside.then(|| f64::from(raw[((h - 1 - y) * w + x) as usize]))
-    };
+    let level = |x: i64, y: i64| gray_at_px(gray, x, y);
     let n = l.direction.perp();
     let side = |s: f64| (floor_i64(0.5 + n.x * s), floor_i64(0.5 + n.y * s));
     let (ahead, behind) = (side(SEAM_SIDE_PX), side(-SEAM_SIDE_PX));
