@@ -111,8 +111,7 @@ fn sobel_row(src: &[u8], wu: usize, hu: usize, y: usize, row: &mut [u16]) {
 /// whole smoothed image, the three steps run one after the other.
 pub fn edge_map(image: &GrayImage, opts: &EdgeOptions) -> GrayImage {
     if opts.weak_threshold < opts.threshold {
-        let smoothed = smooth_3x3(&sobel_magnitude(image), opts.window);
-        return threshold_hysteresis(&smoothed, opts.threshold, opts.weak_threshold);
+        return detect_edges(image, opts).1;
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
