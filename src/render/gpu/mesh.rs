@@ -364,17 +364,19 @@ pub fn nearer_first_order(vertices: &[Vertex], view_z_row: [f32; 4]) -> DrawOrde
 }
 
 /// `vertices` (block triangles in index order, then the floor) with the block triangles in
-/// `order`, each triangle's corners (and so its winding and first vertex) unchanged.
-pub fn in_draw_order(vertices: &[Vertex], order: DrawOrder) -> Vec<Vertex> {
-    let mut out = vertices.to_vec();
-    if order == DrawOrder::Descending {
-        let blocks = &mut out[..block_vertex_count(vertices)];
-        blocks.reverse();
-        for triangle in blocks.chunks_exact_mut(3) {
-            triangle.reverse();
-        }
+/// `order`, each triangle's corners (and so its winding and first vertex) unchanged; borrowed
+/// as they are in [`DrawOrder::Ascending`], copied only to be reordered.
+pub fn in_draw_order(vertices: &[Vertex], order: DrawOrder) -> std::borrow::Cow<'_, [Vertex]> {
+    if order == DrawOrder::Ascending {
+        return std::borrow::Cow::Borrowed(vertices);
     }
-    out
+    let mut out = vertices.to_vec();
+    let blocks = &mut out[..block_vertex_count(vertices)];
+    blocks.reverse();
+    for triangle in blocks.chunks_exact_mut(3) {
+        triangle.reverse();
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// The lines through the projected edges of a face, in framebuffer px: `(a, b, c)` with

@@ -351,7 +351,7 @@ impl Gpu {
             .unwrap_or(0);
         let layout = PixelLayout::of(msaa, max_id);
         // Nearer blocks first where the one-word pixel has the pipelines for it.
-        let ordered: Vec<(Vec<Vertex>, DrawOrder)> = requests
+        let ordered: Vec<(std::borrow::Cow<'_, [Vertex]>, DrawOrder)> = requests
             .iter()
             .map(|r| {
                 let order = match layout {
@@ -403,11 +403,11 @@ impl Gpu {
         &self,
         slot: &mut Option<wgpu::Buffer>,
         requests: &[FrameRequest<'_>],
-        ordered: &[(Vec<Vertex>, DrawOrder)],
+        ordered: &[(std::borrow::Cow<'_, [Vertex]>, DrawOrder)],
     ) -> Vec<u32> {
         let total_bytes: u64 = ordered
             .iter()
-            .map(|(v, _)| std::mem::size_of_val(v.as_slice()) as u64)
+            .map(|(v, _)| std::mem::size_of_val(&**v) as u64)
             .sum();
         let vbuf = self.vertex_buffer(slot, total_bytes);
         let (mut byte_offset, mut first) = (0u64, 0u32);
