@@ -163,12 +163,11 @@ pub fn photo_mesh(
     reach_mm: f64,
 ) -> PhotoMesh {
     let frame = LightFrame::new(towards_light);
-    let boxes: Vec<(DVec3, DVec3)> = scene
-        .blocks
-        .iter()
-        .map(|b| crate::geom::bounds3(b.world_vertices()).unwrap_or_default())
-        .collect();
     let solids: Vec<Vec<DVec3>> = scene.blocks.iter().map(|b| b.world_vertices()).collect();
+    let boxes: Vec<(DVec3, DVec3)> = solids
+        .iter()
+        .map(|w| crate::geom::bounds3(w.iter().copied()).unwrap_or_default())
+        .collect();
     let (mut shadowed, mut rest, mut behind) = (Vec::new(), Vec::new(), Vec::new());
     let contacts = find_contacts(scene);
     for (i, ((block, albedo), touching)) in scene
@@ -551,8 +550,10 @@ pub fn find_contacts(scene: &Scene) -> Contacts {
     let boxes: Vec<(DVec3, DVec3)> = worlds
         .iter()
         .map(|w| {
-            let (lo, hi) = crate::geom::bounds3(w.iter().copied()).unwrap_or_default();
-            (lo - DVec3::splat(CONTACT_MM), hi + DVec3::splat(CONTACT_MM))
+            grow_box(
+                crate::geom::bounds3(w.iter().copied()).unwrap_or_default(),
+                CONTACT_MM,
+            )
         })
         .collect();
     let mut out = Contacts {
