@@ -530,15 +530,7 @@ mod tests {
             ),
         ]
         .into_iter()
-        .map(|(a, b)| FittedLine {
-            axis: crate::drawing::EdgeAxis::WorldX,
-            centroid_px: (a + b) / 2.0,
-            direction: (b - a).normalize(),
-            from_px: a,
-            to_px: b,
-            support: 10,
-            rms_px: 0.0,
-        })
+        .map(|(a, b)| crate::vision::lines::test_segment(1, a, b))
         .collect();
         let edges = GrayImage::from_pixel(w, h, image::Luma([1]));
         let list = EdgeList::new(&edges);

@@ -203,17 +203,7 @@ mod tests {
     use super::*;
     use crate::drawing::EdgeAxis;
 
-    fn seg(k: usize, a: DVec2, b: DVec2) -> FittedLine {
-        FittedLine {
-            axis: EdgeAxis::BLOCK_AXES[k],
-            centroid_px: (a + b) / 2.0,
-            direction: (b - a).normalize(),
-            from_px: a,
-            to_px: b,
-            support: 20,
-            rms_px: 0.3,
-        }
-    }
+    use crate::vision::lines::test_segment as seg;
 
     const R: DVec2 = DVec2::new(0.866, 0.5);
 

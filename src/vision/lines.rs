@@ -99,6 +99,21 @@ impl FittedLine {
     }
 }
 
+/// A fitted segment from `a` to `b` along block axis `EdgeAxis::BLOCK_AXES[k]` (20 supporting
+/// pixels, 0.3 px RMS): the unit tests' segment, one home for the steps' tests.
+#[cfg(test)]
+pub(super) fn test_segment(k: usize, a: DVec2, b: DVec2) -> FittedLine {
+    FittedLine {
+        axis: EdgeAxis::BLOCK_AXES[k],
+        centroid_px: (a + b) / 2.0,
+        direction: (b - a).normalize(),
+        from_px: a,
+        to_px: b,
+        support: 20,
+        rms_px: 0.3,
+    }
+}
+
 /// The picture directions of block edges along `axes` in `camera` (unit vectors, picture px,
 /// y up), each the projection of a short world step at the scene centre (`camera.target_mm`)
 /// through `picture_from_world`; each is made to point up or right.

@@ -355,19 +355,7 @@ mod tests {
     use super::*;
     use crate::drawing::{EdgeAxis, Junction};
 
-    fn seg(k: usize, a: DVec2, b: DVec2) -> FittedLine {
-        let k = EdgeAxis::BLOCK_AXES[k];
-        let d = (b - a).normalize();
-        FittedLine {
-            axis: k,
-            centroid_px: (a + b) / 2.0,
-            direction: d,
-            from_px: a,
-            to_px: b,
-            support: 20,
-            rms_px: 0.3,
-        }
-    }
+    use crate::vision::lines::test_segment as seg;
 
     #[test]
     fn three_short_segments_meet_in_a_fork_with_code_22() {
