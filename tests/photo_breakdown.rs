@@ -135,6 +135,23 @@ fn photo_declines_broken_down() {
             if ok_with { "exact" } else { "no" },
             with.reason.clone().unwrap_or_default()
         );
+        // The blocks of a wrong hypothesis that are not the truth's, and the truth's it lacks.
+        let describe = |b: &blockworld::scene::Block| {
+            format!("{} at {:.1?}", b.block_type.id, b.center_mm.to_array())
+        };
+        let differs = |a: &[blockworld::scene::Block], b: &[blockworld::scene::Block]| {
+            a.iter()
+                .filter(|x| !b.iter().any(|t| same_blocks(&[**x], &[*t])))
+                .map(describe)
+                .collect::<Vec<_>>()
+        };
+        if !hyp_truth {
+            println!(
+                "  hypothesis only: {:?}; truth only: {:?}",
+                differs(&with.evidence.hypothesis, &scene.blocks),
+                differs(&scene.blocks, &with.evidence.hypothesis)
+            );
+        }
         let truths: Vec<LineDrawing> = views
             .iter()
             .map(|v| draw_hypothesis(&shown, &v.camera))

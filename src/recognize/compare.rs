@@ -224,7 +224,12 @@ impl Hypothesis {
 /// projected corners fall on still-unexplained observed points, and on any observed point,
 /// over all views. A block whose corners are all shared with chosen neighbours (the middle of
 /// a row, whose corners are cracks) still ranks by the second.
-fn corner_gain(b: &Block, views: &[ObservedView], h: &Hypothesis, tol_px: f64) -> (usize, usize) {
+pub(super) fn corner_gain(
+    b: &Block,
+    views: &[ObservedView],
+    h: &Hypothesis,
+    tol_px: f64,
+) -> (usize, usize) {
     let corners = b.world_vertices();
     let mut open_hits = 0;
     let mut all_hits = 0;

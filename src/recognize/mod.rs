@@ -30,6 +30,7 @@ mod constraints;
 mod direct;
 mod parallelogram;
 mod picture;
+mod repair;
 mod select;
 mod trapezoid;
 mod verify;
@@ -77,6 +78,7 @@ use crate::scene::{Block, ReconStatus, ViewEvidence};
 use ambiguity::alternative_given_drawings;
 use compare::{choose_hypothesis, greedy_and_split_from, Hypothesis};
 use direct::{direct_hypothesis_within, Silhouettes};
+use repair::repaired_in_pictures;
 
 /// One observed view: its line drawing (ground truth or vision) and its camera.
 #[derive(Debug, Clone)]
@@ -453,7 +455,13 @@ fn find_hypothesis(
     if continued.mismatch() == 0 || explained(&continued) {
         return continued;
     }
-    choose_hypothesis(&pool, views, limits)
+    let chosen = choose_hypothesis(&pool, views, limits);
+    if chosen.mismatch() == 0 || pictures.is_empty() || explained(&chosen) {
+        return chosen;
+    }
+    let repaired = repaired_in_pictures(&chosen, &pool, views, limits, &explained)
+        .or_else(|| repaired_in_pictures(&continued, &pool, views, limits, &explained));
+    repaired.unwrap_or(chosen)
 }
 
 /// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check

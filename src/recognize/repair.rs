@@ -1,0 +1,344 @@
+//! Step 6 with the pictures, one move further (README "Recognizer", "Photographic look"): when
+//! the search's best hypothesis is explained neither by the drawings nor by the pictures, its
+//! neighbours are tried. The search ranks hypotheses by how many drawing features they leave
+//! unexplained, and on camera pictures the front end misses faint edges, so the true blocks
+//! can rank below a wrong set that happens to match more of a damaged drawing; the picture
+//! check ([`super::picture::pictures_mismatch`]) tells them apart, but only for the
+//! hypotheses it is shown.
+//!
+//! A neighbour differs from the hypothesis by one move over the pooled candidates of step 4
+//! (Chapter V's comparison of views): one candidate added, one block removed, one block
+//! replaced by a candidate it overlaps (a b15 that was half of a b30), or two touching blocks
+//! replaced by two candidates filling the same box (an L of three cells split the other way).
+//! Neighbours are redrawn and ranked by their drawing mismatch, and the best few are shown to
+//! the picture check; the first it explains is taken. The answer still passes every final
+//! check (the views deciding the blocks, support), so a neighbour only replaces a hypothesis
+//! that would have been declined.
+
+use super::catalog_match::{blocks_overlap, bounds_mm};
+use super::compare::{corner_gain, Hypothesis, PooledCandidate, SearchLimits, FLUSH_TOL_MM};
+use super::ObservedView;
+use crate::geom::{DVec3, CONTACT_TOL_MM};
+use crate::scene::Block;
+
+/// At most this many neighbours, the fewest drawing mismatches first, are shown to the picture
+/// check: each costs a reading of the pictures along every line the redraw and the drawing
+/// disagree on.
+pub const MAX_PICTURE_CHECKS: usize = 16;
+
+/// A neighbour may leave at most this many more drawing features unexplained than the
+/// hypothesis it comes from: the pictures explain a missed faint edge or two per view, not a
+/// different scene.
+pub const MAX_EXTRA_MISMATCH: usize = 4;
+
+/// Candidates added, those proposed by the most views and then best by [`corner_gain`] first,
+/// redrawn per hypothesis.
+const ADDS_REDRAWN: usize = 24;
+
+/// Candidates put in place of one block, ranked as added ones, redrawn per block.
+const SWAPS_REDRAWN: usize = 3;
+
+/// The neighbours of `h` (see the module doc), redrawn, in the order they are worth showing
+/// to the picture check: fewest drawing mismatches first, ties in the order of the moves.
+fn neighbours(
+    h: &Hypothesis,
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    limits: &SearchLimits,
+) -> Vec<Hypothesis> {
+    let candidates = snapped_candidates(&h.blocks, pool);
+    let free = |c: &Block, except: &[usize]| {
+        h.blocks
+            .iter()
+            .enumerate()
+            .all(|(i, b)| except.contains(&i) || !blocks_overlap(b, c))
+    };
+    // The best `n` of `cs`: proposed by the most views, then by [`corner_gain`].
+    let best = |cs: Vec<&Snapped>, n: usize| -> Vec<Block> {
+        let mut ranked: Vec<(Block, (usize, usize, usize))> = cs
+            .into_iter()
+            .map(|c| {
+                let g = corner_gain(&c.block, views, h, limits.tol_px);
+                (c.block, (c.views, g.0, g.1))
+            })
+            .filter(|(_, g)| g.2 > 0)
+            .collect();
+        ranked.sort_by_key(|r| std::cmp::Reverse(r.1));
+        ranked.into_iter().take(n).map(|(c, _)| c).collect()
+    };
+    let mut sets: Vec<Vec<Block>> = Vec::new();
+    if h.blocks.len() < limits.max_blocks {
+        let adds = candidates.iter().filter(|c| free(&c.block, &[])).collect();
+        for c in best(adds, ADDS_REDRAWN) {
+            sets.push(with_blocks(&h.blocks, &[], &[c]));
+        }
+    }
+    for i in 0..h.blocks.len() {
+        sets.push(with_blocks(&h.blocks, &[i], &[]));
+        let swaps = candidates
+            .iter()
+            .filter(|c| blocks_overlap(&h.blocks[i], &c.block) && free(&c.block, &[i]))
+            .filter(|c| !same_block(&h.blocks[i], &c.block))
+            .collect();
+        for c in best(swaps, SWAPS_REDRAWN) {
+            sets.push(with_blocks(&h.blocks, &[i], &[c]));
+        }
+    }
+    let blocks: Vec<Block> = candidates.iter().map(|c| c.block).collect();
+    for (i, j, a, b) in pair_retilings(&h.blocks, &blocks) {
+        sets.push(with_blocks(&h.blocks, &[i, j], &[a, b]));
+    }
+    let bar = h.mismatch() + MAX_EXTRA_MISMATCH;
+    let mut redrawn: Vec<Hypothesis> = sets
+        .into_iter()
+        .map(|blocks| Hypothesis::new(blocks, views, limits.tol_px))
+        .filter(|n| n.mismatch() <= bar)
+        .collect();
+    redrawn.sort_by_key(Hypothesis::mismatch);
+    redrawn
+}
+
+/// A pooled candidate moved onto the blocks' faces ([`snapped_candidates`]).
+#[derive(Debug, Clone, Copy)]
+struct Snapped {
+    block: Block,
+    /// How many views proposed it (Chapter V: a block seen from several views).
+    views: usize,
+}
+
+/// The pooled candidates moved onto the faces of `blocks` they nearly share (each axis by the
+/// smallest shift up to [`FLUSH_TOL_MM`] that puts one of its faces on a block's face or the
+/// floor), once each: a candidate is placed from the mean of measured corners, a few tenths of
+/// a millimetre off the blocks it touches, which would read as an overlap.
+fn snapped_candidates(blocks: &[Block], pool: &[PooledCandidate]) -> Vec<Snapped> {
+    let bounds: Vec<(DVec3, DVec3)> = blocks.iter().map(bounds_mm).collect();
+    let faces: [Vec<f64>; 3] = std::array::from_fn(|k| {
+        let mut f: Vec<f64> = bounds.iter().flat_map(|(lo, hi)| [lo[k], hi[k]]).collect();
+        if k == 1 {
+            f.push(0.0);
+        }
+        f
+    });
+    let mut out: Vec<Snapped> = Vec::new();
+    let mut seen = std::collections::HashMap::new();
+    for c in pool {
+        let mut b = c.block;
+        let (lo, hi) = bounds_mm(&b);
+        for k in 0..3 {
+            let shift = faces[k]
+                .iter()
+                .flat_map(|f| [f - lo[k], f - hi[k]])
+                .filter(|d| d.abs() <= FLUSH_TOL_MM)
+                .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+            if let Some(d) = shift {
+                b.center_mm[k] += d;
+            }
+        }
+        let key = (
+            b.block_type.id,
+            (super::compare::yaw_deg(&b) * 10.0).round() as i64,
+            (b.center_mm * 4.0).round().as_i64vec3().to_array(),
+        );
+        match seen.get(&key) {
+            Some(&k) => {
+                let o: &mut Snapped = &mut out[k];
+                o.views = o.views.max(c.views.len());
+            }
+            None => {
+                seen.insert(key, out.len());
+                out.push(Snapped {
+                    block: b,
+                    views: c.views.len(),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// `blocks` without those at `removed` (indices), with `added` appended.
+fn with_blocks(blocks: &[Block], removed: &[usize], added: &[Block]) -> Vec<Block> {
+    blocks
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !removed.contains(i))
+        .map(|(_, b)| *b)
+        .chain(added.iter().copied())
+        .collect()
+}
+
+/// `true` when `a` and `b` are the same catalog block in the same box (to [`FILL_TOL_MM`]).
+fn same_block(a: &Block, b: &Block) -> bool {
+    a.block_type.id == b.block_type.id && same_box(bounds_mm(a), bounds_mm(b))
+}
+
+/// `true` when two boxes agree to [`FILL_TOL_MM`] on every face.
+fn same_box((la, ha): (DVec3, DVec3), (lb, hb): (DVec3, DVec3)) -> bool {
+    (la - lb).abs().max_element() <= FILL_TOL_MM && (ha - hb).abs().max_element() <= FILL_TOL_MM
+}
+
+/// Two boxes' faces within this are one face, mm: pooled candidates are placed from measured
+/// corners, a fraction of a millimetre off the hypothesis's blocks.
+const FILL_TOL_MM: f64 = 1.0;
+
+/// Every way to replace two touching blocks `i` and `j` of `blocks` by two other pooled
+/// candidates `a` and `b` that fill the same space as they do, no more and no less (each
+/// inside the two, apart, the same volume together: a box or an L of three cells tiled the
+/// other way), each overlapping no other block: `(i, j, a, b)`.
+fn pair_retilings(blocks: &[Block], candidates: &[Block]) -> Vec<(usize, usize, Block, Block)> {
+    let mut out = Vec::new();
+    for i in 0..blocks.len() {
+        for j in i + 1..blocks.len() {
+            let (bi, bj) = (bounds_mm(&blocks[i]), bounds_mm(&blocks[j]));
+            if !touching(bi, bj) {
+                continue;
+            }
+            let volume = blocks[i].volume_mm3() + blocks[j].volume_mm3();
+            let inside: Vec<&Block> = candidates
+                .iter()
+                .filter(|c| {
+                    let bc = bounds_mm(c);
+                    let covered = overlap_volume_mm3(bc, bi) + overlap_volume_mm3(bc, bj);
+                    (covered - c.volume_mm3()).abs() <= FILL_TOL_MM3
+                })
+                .filter(|c| !same_block(c, &blocks[i]) && !same_block(c, &blocks[j]))
+                .filter(|c| {
+                    blocks
+                        .iter()
+                        .enumerate()
+                        .all(|(k, b)| k == i || k == j || !blocks_overlap(b, c))
+                })
+                .collect();
+            for (m, a) in inside.iter().enumerate() {
+                for b in &inside[m + 1..] {
+                    let v = a.volume_mm3() + b.volume_mm3();
+                    if !blocks_overlap(a, b) && (v - volume).abs() <= FILL_TOL_MM3 {
+                        out.push((i, j, **a, **b));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Volumes within this are equal, mm^3: a candidate placed a fraction of a millimetre off
+/// changes its overlap with a 15 mm cell by a few mm^3 per face.
+const FILL_TOL_MM3: f64 = 60.0;
+
+/// The volume two boxes share, mm^3.
+fn overlap_volume_mm3((la, ha): (DVec3, DVec3), (lb, hb): (DVec3, DVec3)) -> f64 {
+    (ha.min(hb) - la.max(lb)).max(DVec3::ZERO).element_product()
+}
+
+/// `true` when two boxes share part of a face (touch within the contact tolerance, overlap on
+/// the other two axes).
+fn touching((la, ha): (DVec3, DVec3), (lb, hb): (DVec3, DVec3)) -> bool {
+    let pen = ha.min(hb) - la.max(lb);
+    let tol = 2.0 * CONTACT_TOL_MM;
+    let touching_axes = pen.to_array().iter().filter(|p| p.abs() <= tol).count();
+    let overlapping_axes = pen.to_array().iter().filter(|&&p| p > tol).count();
+    touching_axes == 1 && overlapping_axes == 2
+}
+
+/// The first neighbour of `h` (see the module doc) that `explained` accepts, trying at most
+/// [`MAX_PICTURE_CHECKS`] of them; `None` when none is.
+pub(super) fn repaired_in_pictures(
+    h: &Hypothesis,
+    pool: &[PooledCandidate],
+    views: &[ObservedView],
+    limits: &SearchLimits,
+    explained: &dyn Fn(&Hypothesis) -> bool,
+) -> Option<Hypothesis> {
+    neighbours(h, pool, views, limits)
+        .into_iter()
+        .take(MAX_PICTURE_CHECKS)
+        .find(|n| explained(n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::CornerView;
+    use crate::recognize::{views_of, RecognizeOptions};
+
+    fn limits() -> SearchLimits {
+        let o = RecognizeOptions::default();
+        SearchLimits {
+            tol_px: o.tol_px,
+            shortlist: o.shortlist,
+            max_redraws_per_step: o.max_redraws_per_step,
+            max_blocks: o.max_blocks,
+            repair_rounds: o.repair_rounds,
+        }
+    }
+
+    fn pooled(block: Block) -> PooledCandidate {
+        PooledCandidate {
+            block,
+            views: vec![0, 1],
+            fit_views: Vec::new(),
+            side_fit: false,
+            proposals: 2,
+        }
+    }
+
+    fn b(id: &str, x: f64, y: f64, z: f64, yaw_deg: f64) -> Block {
+        Block::new(id, DVec3::new(x, y, z), yaw_deg)
+    }
+
+    #[test]
+    fn a_block_the_search_missed_is_added_when_the_check_explains_the_neighbour() {
+        let truth = [
+            b("b15", 7.5, 7.5, 7.5, 0.0),
+            b("b15", 22.5, 7.5, 7.5, 0.0),
+            b("b15", 7.5, 22.5, 7.5, 0.0),
+        ];
+        let views = views_of(&truth, &CornerView::ALL);
+        let h = Hypothesis::new(truth[..2].to_vec(), &views, limits().tol_px);
+        assert!(h.mismatch() > 0);
+        // Measured a few tenths of a millimetre off, overlapping the block below by 0.15 mm.
+        let off = b("b15", 7.7, 22.35, 7.6, 0.0);
+        let far = b("b15", 45.0, 7.5, 45.0, 0.0);
+        let pool = [pooled(far), pooled(off)];
+        let explained = |n: &Hypothesis| n.mismatch() == 0;
+        let r = repaired_in_pictures(&h, &pool, &views, &limits(), &explained).unwrap();
+        assert_eq!(r.blocks.len(), 3);
+        assert!(r.blocks[2].center_mm.distance(truth[2].center_mm) < 1e-9);
+        // A check that explains nothing takes no neighbour.
+        let nothing = |_: &Hypothesis| false;
+        assert!(repaired_in_pictures(&h, &pool, &views, &limits(), &nothing).is_none());
+    }
+
+    #[test]
+    fn snapping_moves_a_candidate_onto_faces_it_nearly_shares_and_no_further() {
+        let blocks = [b("b15", 7.5, 7.5, 7.5, 0.0)];
+        let near = b("b15", 22.35, 7.7, 7.62, 0.0);
+        let apart = b("b15", 25.0, 7.5, 7.5, 0.0);
+        let s = snapped_candidates(&blocks, &[pooled(near), pooled(apart), pooled(near)]);
+        assert_eq!(s.len(), 2, "the same candidate twice is one");
+        assert!(s[0].block.center_mm.distance(DVec3::new(22.5, 7.5, 7.5)) < 1e-9);
+        assert!(!blocks_overlap(&blocks[0], &s[0].block));
+        // 2.5 mm off is another place, not a measurement error: only its floor face moves.
+        assert!(s[1].block.center_mm.distance(DVec3::new(25.0, 7.5, 7.5)) < 1e-9);
+    }
+
+    #[test]
+    fn an_l_of_three_cells_is_retiled_the_other_way_and_nothing_leaving_a_gap() {
+        // A b15 and a b30 along z (yaw 90) fill the L; a b30 along x and a b15 fill it too.
+        let blocks = [
+            b("b15", 7.5, 7.5, 7.5, 0.0),
+            b("b30", 22.5, 7.5, 15.0, 90.0),
+        ];
+        let along_x = b("b30", 15.0, 7.5, 7.5, 0.0);
+        let corner = b("b15", 22.5, 7.5, 22.5, 0.0);
+        let outside = b("b15", 7.5, 7.5, 22.5, 0.0);
+        let r = pair_retilings(&blocks, &[along_x, outside, corner]);
+        assert_eq!(r.len(), 1);
+        let (i, j, x, y) = r[0];
+        assert_eq!((i, j), (0, 1));
+        assert!(same_block(&x, &along_x) && same_block(&y, &corner));
+        // Without the corner cell the b30 along x leaves the L's far cell empty.
+        assert!(pair_retilings(&blocks, &[along_x, outside]).is_empty());
+    }
+}
