@@ -35,8 +35,8 @@ struct VertexIn {
 };
 
 struct VertexOut {
-    // Invariant: the depth pre-pass and the radiance pass (depth test Equal) must compute the
-    // same depth for the same vertex.
+    // Invariant: every pipeline drawing the mesh computes the same depth for the same vertex
+    // (the whole faces drawn behind their shadowed parts rely on it).
     @invariant @builtin(position) clip: vec4<f32>,
     @location(0) world_mm: vec3<f32>,
     @location(1) @interpolate(flat) albedo: f32,

@@ -1,10 +1,13 @@
 //! The GPU half of the photographic look (README "Photographic look"): the pipelines of
-//! `shaders/photo.wgsl`, a key-light shadow map pass, a depth pre-pass of the picture and the
-//! radiance pass (linear radiance in an `R32Float` target, read back for the sensor model of
-//! `render::photo::sensor`). The pre-pass lets the radiance pass shade each pixel once, only
-//! with the surface that shows there: lavapipe shades every covered pixel of a triangle that
-//! passes the depth test, so without it the soft shadow test also ran on the floor and faces
-//! that nearer blocks hide.
+//! `shaders/photo.wgsl`, a key-light shadow map pass and the radiance pass (linear radiance in
+//! an `R32Float` target, read back for the sensor model of `render::photo::sensor`).
+//!
+//! The radiance pass draws the triangles that need no shadow test first and those that do
+//! last, nearer blocks before farther ones and the floor at the end
+//! (`render::photo::mesh::PhotoMesh`), with depth test Less and depth writes: lavapipe tests
+//! depth before it runs the fragment shader, so the soft shadow test runs almost only on the
+//! surface that shows, without a depth pre-pass (which cost a second pass over every
+//! triangle). A pixel shows the nearest surface either way.
 //!
 //! Created on first use, so line-art rendering never builds them.
 
@@ -50,8 +53,6 @@ pub struct PhotoUniforms {
 /// Pipelines, shadow map and cached targets of the photo look; one per renderer.
 pub struct PhotoPass {
     shadow: wgpu::RenderPipeline,
-    depth_prepass: wgpu::RenderPipeline,
-    depth_prepass_behind: wgpu::RenderPipeline,
     radiance: wgpu::RenderPipeline,
     unshadowed: wgpu::RenderPipeline,
     unshadowed_behind: wgpu::RenderPipeline,
@@ -76,17 +77,37 @@ struct RadianceTargets {
     row_bytes: u32,
 }
 
+/// A photo view submitted to the GPU and not yet read back ([`Gpu::submit_photo`]): holds the
+/// photo pass (so no other view reuses its targets meanwhile) until [`PendingPhoto::read`].
+pub struct PendingPhoto<'a> {
+    gpu: &'a Gpu,
+    pass: std::sync::MutexGuard<'a, Option<PhotoPass>>,
+}
+
+impl PendingPhoto<'_> {
+    /// Waits for the view and reads its radiance back as `w * h` f32 rows top to bottom.
+    pub fn read(self) -> Result<Vec<f32>, RenderError> {
+        let t = self
+            .pass
+            .as_ref()
+            .and_then(|p| p.targets.as_ref())
+            .ok_or_else(|| RenderError::Gpu("photo targets missing after submission".into()))?;
+        self.gpu.read_radiance(t)
+    }
+}
+
 impl Gpu {
-    /// Draws the photo look: the shadow map from the key light, then linear radiance of the
-    /// mesh into a `size` px target (its shadowed triangles with the soft shadow test, the rest
-    /// without), read back as `w * h` f32 rows top to bottom.
-    pub fn draw_photo(
-        &self,
-        slot: &PhotoSlot,
+    /// Submits the photo look of one view: the shadow map from the key light, then linear
+    /// radiance of the mesh into a `size` px target (its shadowed triangles with the soft
+    /// shadow test, the rest without). Returns without waiting, so the caller can submit the
+    /// view's ground truth meanwhile and wait once for both ([`PendingPhoto::read`]).
+    pub fn submit_photo<'a>(
+        &'a self,
+        slot: &'a PhotoSlot,
         mesh: &PhotoMesh,
         uniforms: &PhotoUniforms,
         size: [u32; 2],
-    ) -> Result<Vec<f32>, RenderError> {
+    ) -> Result<PendingPhoto<'a>, RenderError> {
         let mut guard = slot
             .0
             .lock()
@@ -108,14 +129,15 @@ impl Gpu {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         encode_photo_passes(&mut encoder, pass, mesh);
         self.queue.submit([encoder.finish()]);
-        let t = pass.targets.as_ref().expect("just created");
-        let result = self.read_radiance(t);
         let oom_error = pollster::block_on(oom.pop());
         let validation_error = pollster::block_on(scope.pop());
         if let Some(e) = validation_error.or(oom_error) {
             return Err(RenderError::Gpu(e.to_string()));
         }
-        result
+        Ok(PendingPhoto {
+            gpu: self,
+            pass: guard,
+        })
     }
 
     /// Grows the vertex buffer to hold `vertex_bytes` and (re)creates the targets for `size`.
@@ -280,20 +302,6 @@ impl Gpu {
         });
         PhotoPass {
             shadow: photo_pipeline(device, &module, &shadow_bgl, PhotoStage::Shadow, false),
-            depth_prepass: photo_pipeline(
-                device,
-                &module,
-                &photo_bgl,
-                PhotoStage::DepthPrepass,
-                false,
-            ),
-            depth_prepass_behind: photo_pipeline(
-                device,
-                &module,
-                &photo_bgl,
-                PhotoStage::DepthPrepass,
-                true,
-            ),
             radiance: photo_pipeline(
                 device,
                 &module,
@@ -373,9 +381,8 @@ enum PhotoStage {
     /// Depth from the key light only, front faces culled so a lit face compares against its
     /// own block's far side, never itself.
     Shadow,
-    /// Depth of the picture only (`vs_photo`, back faces culled).
-    DepthPrepass,
-    /// Radiance with this fragment entry point, where the pre-pass's depth is equal.
+    /// Radiance with this fragment entry point (`vs_photo`, back faces culled), where nothing
+    /// nearer was drawn before.
     Radiance(&'static str),
 }
 
@@ -399,7 +406,7 @@ fn photo_pipeline(
 ) -> wgpu::RenderPipeline {
     let fragment = match stage {
         PhotoStage::Radiance(entry) => Some(entry),
-        PhotoStage::Shadow | PhotoStage::DepthPrepass => None,
+        PhotoStage::Shadow => None,
     };
     let from_light = matches!(stage, PhotoStage::Shadow);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -416,7 +423,6 @@ fn photo_pipeline(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(match stage {
             PhotoStage::Shadow => "photo shadow map",
-            PhotoStage::DepthPrepass => "photo depth pre-pass",
             PhotoStage::Radiance(entry) => entry,
         }),
         layout: Some(&layout),
@@ -442,14 +448,8 @@ fn photo_pipeline(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            // The radiance pass draws where the pre-pass found the nearest surface (the same
-            // vertex shader, its position `@invariant`), so it needs no depth writes.
-            depth_write_enabled: Some(fragment.is_none()),
-            depth_compare: Some(if fragment.is_none() {
-                wgpu::CompareFunction::Less
-            } else {
-                wgpu::CompareFunction::Equal
-            }),
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
             stencil: Default::default(),
             bias: if behind {
                 BEHIND_BIAS
@@ -469,51 +469,38 @@ fn photo_pipeline(
     })
 }
 
-/// The shadow pass, the depth pre-pass, the radiance pass (the mesh's shadowed vertices with
-/// the shadow test, the rest without, the last `behind` of them with [`BEHIND_BIAS`]) and the
-/// copy of the radiance into the readback buffer.
+/// The shadow pass, the radiance pass (the mesh's triangles without the shadow test first,
+/// the whole faces `behind` their shadowed parts with [`BEHIND_BIAS`], then the shadowed
+/// triangles with the test, so that nearly every shadowed fragment hidden by a nearer surface
+/// fails the depth test before it is shaded) and the copy of the radiance into the readback
+/// buffer.
 fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mesh: &PhotoMesh) {
     let vertex_count = mesh.vertices.len() as u32;
     let shadowed = mesh.shadowed_vertices as u32;
     let behind = vertex_count - mesh.behind_vertices as u32;
     let t = pass.targets.as_ref().expect("created before encoding");
     let vbuf = pass.vertices.as_ref().expect("created before encoding");
-    let depth = |view, load| {
+    let depth = |view| {
         Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: Some(wgpu::Operations {
-                load,
+                load: wgpu::LoadOp::Clear(1.0),
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
         })
     };
-    let clear = wgpu::LoadOp::Clear(1.0);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow map"),
             color_attachments: &[],
-            depth_stencil_attachment: depth(&pass.shadow_view, clear),
+            depth_stencil_attachment: depth(&pass.shadow_view),
             ..Default::default()
         });
         rp.set_pipeline(&pass.shadow);
         rp.set_bind_group(0, &pass.shadow_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
         rp.draw(0..vertex_count, 0..1);
-    }
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("photo depth pre-pass"),
-            color_attachments: &[],
-            depth_stencil_attachment: depth(&t.depth_view, clear),
-            ..Default::default()
-        });
-        rp.set_bind_group(0, &pass.photo_bind_group, &[]);
-        rp.set_vertex_buffer(0, vbuf.slice(..));
-        rp.set_pipeline(&pass.depth_prepass);
-        rp.draw(0..behind, 0..1);
-        rp.set_pipeline(&pass.depth_prepass_behind);
-        rp.draw(behind..vertex_count, 0..1);
     }
     {
         let colors = [Some(wgpu::RenderPassColorAttachment {
@@ -528,17 +515,17 @@ fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mes
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("radiance"),
             color_attachments: &colors,
-            depth_stencil_attachment: depth(&t.depth_view, wgpu::LoadOp::Load),
+            depth_stencil_attachment: depth(&t.depth_view),
             ..Default::default()
         });
         rp.set_bind_group(0, &pass.photo_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
-        rp.set_pipeline(&pass.radiance);
-        rp.draw(0..shadowed, 0..1);
         rp.set_pipeline(&pass.unshadowed);
         rp.draw(shadowed..behind, 0..1);
         rp.set_pipeline(&pass.unshadowed_behind);
         rp.draw(behind..vertex_count, 0..1);
+        rp.set_pipeline(&pass.radiance);
+        rp.draw(0..shadowed, 0..1);
     }
     encoder.copy_texture_to_buffer(
         t.radiance.as_image_copy(),

@@ -122,8 +122,9 @@ pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<Ph
 }
 
 /// The render mesh of [`photo_vertices`] ordered by the work its pixels need: first the
-/// triangles the key light's soft shadow can reach, then the rest, which the renderer shades
-/// without the shadow test (the same radiance: their light share is 1, or it does not matter).
+/// triangles the key light's soft shadow can reach (nearer blocks first, the floor last), then
+/// the rest, which the renderer shades without the shadow test (the same radiance: their light
+/// share is 1, or it does not matter).
 /// The rest are the faces turned away from the light (ambient only), the black crack sheets,
 /// the parts of block faces no other block comes near on the light's side, and the floor away
 /// from every block's shadow ([`photo_mesh`]). A face only part of which a shadow can reach
@@ -170,13 +171,8 @@ pub fn photo_mesh(
         .collect();
     let (mut shadowed, mut rest, mut behind) = (Vec::new(), Vec::new(), Vec::new());
     let contacts = find_contacts(scene);
-    for (i, ((block, albedo), touching)) in scene
-        .blocks
-        .iter()
-        .zip(albedos)
-        .zip(&contacts.touching)
-        .enumerate()
-    {
+    for i in nearer_first(camera, &boxes) {
+        let (block, albedo, touching) = (&scene.blocks[i], &albedos[i], &contacts.touching[i]);
         let grown = grow_box(boxes[i], reach_mm);
         let near: Vec<usize> = (0..boxes.len())
             .filter(|&j| j != i && swept_box_meets(grown, towards_light, boxes[j]))
@@ -250,6 +246,20 @@ pub fn photo_mesh(
         shadowed_vertices,
         behind_vertices,
     }
+}
+
+/// The blocks' indices, nearer to `camera` first (by the depth of their boxes' centres; ties
+/// in index order): the order in which [`photo_mesh`] lists their triangles, so that the
+/// renderer, drawing with a depth test, shades few hidden fragments.
+fn nearer_first(camera: &Camera, boxes: &[(DVec3, DVec3)]) -> Vec<usize> {
+    let view = camera.view_matrix();
+    let depth_mm: Vec<f64> = boxes
+        .iter()
+        .map(|(lo, hi)| -view.transform_point3((*lo + *hi) / 2.0).z)
+        .collect();
+    let mut order: Vec<usize> = (0..boxes.len()).collect();
+    order.sort_by(|&a, &b| depth_mm[a].total_cmp(&depth_mm[b]));
+    order
 }
 
 /// How far in front of a face's plane a point of another block must lie to count as an

@@ -123,10 +123,16 @@ impl Renderer {
             .collect();
         let full = Camera::frame(&points, view, &opts.camera);
         let written = full.downsampled(opts.downsample);
+        // The photo view is submitted first and read after the truth's draw, whose wait
+        // covers both: one wait per view.
+        let photo = match opts.look {
+            super::Look::LineArt => None,
+            super::Look::Photo => Some(self.submit_photo(scene, &full, opts)?),
+        };
         let truth = self.draw_sharp(scene, &written, 1)?;
-        let mut gray = match opts.look {
-            super::Look::LineArt => self.draw_sharp(scene, &full, opts.msaa)?.0,
-            super::Look::Photo => self.expose_photo(scene, &full, opts, view)?,
+        let mut gray = match photo {
+            Some(pending) => expose(pending, opts, view)?,
+            None => self.draw_sharp(scene, &full, opts.msaa)?.0,
         };
         add_sensor_noise(&mut gray, opts.noise_sigma, noise_seed(opts.seed, view));
         let gray = sensor::downsample(&gray, opts.downsample);
@@ -173,17 +179,15 @@ impl Renderer {
         ))
     }
 
-    /// The photo look's picture at `camera`'s full size: the bevelled, cracked render mesh
-    /// shaded on the GPU with the scene's key light and shadow map (the soft shadow test only
-    /// where a shadow can reach, [`mesh::photo_mesh`]), `SUPERSAMPLING`^2 samples
-    /// averaged per pixel, then exposed on the sensor (noise seeded per scene and view).
-    fn expose_photo(
+    /// Submits the photo look's picture at `camera`'s full size: the bevelled, cracked render
+    /// mesh shaded on the GPU with the scene's key light and shadow map (the soft shadow test
+    /// only where a shadow can reach, [`mesh::photo_mesh`]); [`expose`] reads it back.
+    fn submit_photo(
         &self,
         scene: &Scene,
         camera: &Camera,
         opts: &RenderOptions,
-        view: CornerView,
-    ) -> Result<GrayImage, RenderError> {
+    ) -> Result<PendingExposure<'_>, RenderError> {
         let light = mesh::key_light(camera, opts.photo.light_jitter_deg, opts.seed);
         let albedos = mesh::block_albedos(scene, opts.photo.block_albedo_range, opts.seed);
         let reach_mm = BLOCKER_SEARCH_MM + SHADOW_REACH_MARGIN_MM;
@@ -191,13 +195,30 @@ impl Renderer {
         let uniforms = photo_uniforms(scene, camera, &light);
         let [w, h] = camera.size_px;
         let size = [w * SUPERSAMPLING, h * SUPERSAMPLING];
-        let samples = self.gpu.draw_photo(&self.photo, &mesh, &uniforms, size)?;
-        let radiance = box_average(samples, size, SUPERSAMPLING);
-        Ok(opts
-            .photo
-            .sensor
-            .expose(&radiance, noise_seed(opts.seed, view) ^ 0x005E_450B))
+        let pending = self.gpu.submit_photo(&self.photo, &mesh, &uniforms, size)?;
+        Ok(PendingExposure { pending, size })
     }
+}
+
+/// A photo view on the GPU ([`Renderer::submit_photo`]) and the size of its radiance target.
+struct PendingExposure<'a> {
+    pending: super::gpu::photo::PendingPhoto<'a>,
+    size: [u32; 2],
+}
+
+/// Reads a submitted photo view back, averages its `SUPERSAMPLING`^2 samples per pixel and
+/// exposes it on the sensor (noise seeded per scene and view).
+fn expose(
+    photo: PendingExposure<'_>,
+    opts: &RenderOptions,
+    view: CornerView,
+) -> Result<GrayImage, RenderError> {
+    let samples = photo.pending.read()?;
+    let radiance = box_average(samples, photo.size, SUPERSAMPLING);
+    Ok(opts
+        .photo
+        .sensor
+        .expose(&radiance, noise_seed(opts.seed, view) ^ 0x005E_450B))
 }
 
 /// The shader constants of one photo view: the picture's camera, and an orthographic shadow

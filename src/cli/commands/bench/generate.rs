@@ -114,7 +114,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.view.corner_views()?.len(),
         adapter.map(|a| format!(", {a}")).unwrap_or_default()
     )?;
-    outln!("{}", table(&runs))?;
+    let views = args.view.corner_views()?.len();
+    outln!("{}", table(&runs, views))?;
     for m in &runs {
         outln!(
             "{}: wall {:.3} s: {:.1} scenes/s (mean {:.1} blocks per scene; {} unstable draws redrawn)",
@@ -128,9 +129,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The table: ms per scene of each stage on one thread and scenes/s, a column per look, and
-/// each later look's ratio to the first (photo / line art).
-fn table(runs: &[Measured]) -> String {
+/// The table: ms per scene of each stage on one thread, the render stage per view (`views`
+/// per scene), and scenes/s, a column per look, and each later look's ratio to the first
+/// (photo / line art).
+fn table(runs: &[Measured], views: usize) -> String {
     let first = &runs[0];
     let mut head = String::from("| stage |");
     let mut rule = String::from("|---|");
@@ -156,6 +158,15 @@ fn table(runs: &[Measured]) -> String {
         }
         out += "\n";
     }
+    out += "| render per view (ms, one thread) |";
+    let per_view = |m: &Measured| m.stage_ms()[1] / views.max(1) as f64;
+    for m in runs {
+        out += &format!(" {:.3} |", per_view(m));
+    }
+    for m in &runs[1..] {
+        out += &format!(" {:.2}x |", per_view(m) / per_view(first).max(1e-12));
+    }
+    out += "\n";
     out += "| scenes/s (wall) |";
     for m in runs {
         out += &format!(" {:.1} |", m.scenes_per_s());
