@@ -65,6 +65,7 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ("gltf", &["export"]),
     ("indicatif", &["cli"]),
     ("libc", &["dataset/lock", "dataset/memory"]),
+    ("png", &["output"]),
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
