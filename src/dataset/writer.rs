@@ -373,7 +373,16 @@ pub fn generate_dataset(
         return Err(DatasetError::NoRenderer);
     }
     super::memory::keep_freed_pictures_in_heap();
+    let new_folder = !dir.exists();
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    if new_folder {
+        // Only a folder this run made: a user's existing folder keeps its attributes.
+        let spread = super::placement::spread_scene_folders(dir);
+        tracing::debug!(
+            spread,
+            "scene folders spread over the file system's block groups"
+        );
+    }
     let _lock = super::lock::lock_dataset(dir, opts.shard)?;
     let manifest_name = if opts.shard.is_whole() {
         MANIFEST_NAME.to_string()
