@@ -57,7 +57,8 @@ pub struct DatasetOptions {
     /// adds `scene.glb`); `None` (the default) writes none.
     pub scene_file: Option<SceneFileEncoder>,
     /// When each scene's files reach the disk: [`FileSync::Verified`] (the default of
-    /// `generate`) syncs only the scene's done marker, since a resume re-hashes every file;
+    /// `generate`) syncs none of them, its done marker included, since a resume parses the
+    /// marker and re-hashes every file it lists (README "Settling and datasets", durability);
     /// [`FileSync::EveryFile`] (`--fsync`) syncs every file. Does not change the content.
     pub file_sync: FileSync,
 }
@@ -344,8 +345,10 @@ fn produce_scene(
         attempts: drawn.attempts,
         files,
     };
+    // Written last and, by default, not synced: after a power loss a marker that did not reach
+    // the disk whole fails to parse, or lists hashes its files fail, and the scene is redone.
     let done = scene_dir.join(DONE_FILE);
-    write_atomic(&done, entry.to_line().as_bytes()).map_err(io_err(&done))?;
+    write_atomic_with(&done, entry.to_line().as_bytes(), opts.file_sync).map_err(io_err(&done))?;
     times.write_s = t.elapsed().as_secs_f64();
     Ok(SceneOutcome {
         entry,

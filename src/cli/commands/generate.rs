@@ -46,8 +46,8 @@ pub struct Args {
     /// Also write each settled scene as binary glTF, `scene.glb`, listed in the manifest.
     #[arg(long)]
     pub gltf: bool,
-    /// Force every file to disk before it is renamed into place (default: only each scene's
-    /// done marker; a resume re-hashes every file, which finds what a power loss damaged).
+    /// Force every file to disk before it is renamed into place (default: none but the
+    /// manifest; a resume re-hashes every file, which finds what a power loss damaged).
     #[arg(long)]
     pub fsync: bool,
     /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
