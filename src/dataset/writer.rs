@@ -361,18 +361,21 @@ fn produce_scene(
 const CHUNK_SCENES: usize = 1024;
 
 /// Generates (or resumes) this shard of the dataset in `dir`, in parallel on `opts.jobs`
-/// threads, rendering through the one shared `renderer`. `progress(done, total)` is called
+/// threads, rendering through `renderers` (none when `opts.views` is empty): worker `k` renders
+/// through `renderers[k % renderers.len()]`, so with a device per worker two scenes render at
+/// once instead of queueing for one device's lock (README "Benchmarks"; every device renders
+/// the same bytes). `progress(done, total)` is called
 /// after each scene. Holds the dataset lock (a second writer of the same scenes is refused),
 /// streams the scenes in chunks of [`CHUNK_SCENES`] and their manifest lines into a temporary
 /// file that is renamed into place last, so memory does not grow with `opts.count`.
 pub fn generate_dataset(
     dir: &Path,
     opts: &DatasetOptions,
-    renderer: Option<&Renderer>,
+    renderers: &[Renderer],
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<GenerateSummary, DatasetError> {
     check_options(opts)?;
-    if !opts.views.is_empty() && renderer.is_none() {
+    if !opts.views.is_empty() && renderers.is_empty() {
         return Err(DatasetError::NoRenderer);
     }
     super::memory::keep_freed_pictures_in_heap();
@@ -400,7 +403,7 @@ pub fn generate_dataset(
         .map_err(|e| DatasetError::Options(format!("--jobs: {e}")))?;
     let manifest = dir.join(manifest_name);
     let tmp = crate::io::temp_path(&manifest);
-    let result = stream_scenes(dir, opts, renderer, progress, &pool, &tmp).and_then(|mut s| {
+    let result = stream_scenes(dir, opts, renderers, progress, &pool, &tmp).and_then(|mut s| {
         std::fs::rename(&tmp, &manifest).map_err(io_err(&manifest))?;
         s.manifest = manifest.clone();
         Ok(s)
@@ -411,12 +414,19 @@ pub fn generate_dataset(
     result
 }
 
+/// The renderer of the calling worker thread: `renderers[k % len]` for worker `k` of the pool
+/// (the first outside a pool); `None` when there are none.
+fn worker_renderer(renderers: &[Renderer]) -> Option<&Renderer> {
+    let k = rayon::current_thread_index().unwrap_or(0);
+    renderers.get(k % renderers.len().max(1))
+}
+
 /// Produces the shard's scenes chunk by chunk and appends their manifest lines, in index
 /// order, to `manifest_tmp`.
 fn stream_scenes(
     dir: &Path,
     opts: &DatasetOptions,
-    renderer: Option<&Renderer>,
+    renderers: &[Renderer],
     progress: &(dyn Fn(u64, u64) + Sync),
     pool: &rayon::ThreadPool,
     manifest_tmp: &Path,
@@ -450,7 +460,7 @@ fn stream_scenes(
             specs
                 .par_iter()
                 .map(|spec| {
-                    let out = produce_scene(dir, spec, opts, renderer);
+                    let out = produce_scene(dir, spec, opts, worker_renderer(renderers));
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                     out
                 })
