@@ -168,11 +168,20 @@ pub fn renderers_for(args: &ViewArgs, jobs: usize) -> anyhow::Result<Vec<Rendere
     } else {
         jobs
     };
-    let mut renderers = Vec::new();
+    let Some(first) = renderer_for(args)? else {
+        return Ok(Vec::new());
+    };
+    let mut renderers = vec![first];
     while renderers.len() < workers.clamp(1, MAX_RENDERERS) {
-        match renderer_for(args)? {
-            Some(r) => renderers.push(r),
-            None => break,
+        // A device that will not open a second time (an exclusive GPU) leaves the workers
+        // sharing the ones there are.
+        match renderer_for(args) {
+            Ok(Some(r)) => renderers.push(r),
+            Ok(None) => break,
+            Err(e) => {
+                tracing::info!("rendering through {} device(s): {e:#}", renderers.len());
+                break;
+            }
         }
     }
     Ok(renderers)
