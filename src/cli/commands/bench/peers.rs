@@ -11,7 +11,7 @@
 //! "Benchmarks").
 
 use super::machine::banner;
-use crate::cli::commands::generate::{checked_options, renderers_for};
+use crate::cli::commands::generate::{checked_options, renderer_for, renderers_for};
 use crate::cli::files::{read_camera, read_picture};
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
@@ -83,23 +83,19 @@ struct Rounds {
 /// Runs `blockworld bench peers`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     check_peers(&args.python, &args.peers_dir, &python_imports)?;
-    let renderers = renderers_for(&args.view, args.jobs)?;
-    let renderer = renderers
-        .first()
-        .context("bench peers needs views to render")?;
+    let renderer = renderer_for(&args.view)?.context("bench peers needs views to render")?;
     let scratch = std::env::temp_dir().join(format!("blockworld-peers-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).with_context(|| format!("creating {}", scratch.display()))?;
-    let result = run_rounds(&args, &renderers, &scratch);
+    let result = run_rounds(&args, &renderer, &scratch);
     let _ = std::fs::remove_dir_all(&scratch);
     let rounds = result?;
-    outln!("{}", banner(Some(renderer)).trim_end())?;
+    outln!("{}", banner(Some(&renderer)).trim_end())?;
     print_table(&args, &rounds)
 }
 
 /// Every round: blockworld's dataset run then the Kubric-style one, blockworld's renders then
 /// Blender's, blockworld's vision then OpenCV's on the same views.
-fn run_rounds(args: &Args, renderers: &[Renderer], scratch: &Path) -> anyhow::Result<Rounds> {
-    let renderer = &renderers[0];
+fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Result<Rounds> {
     let blender = scratch.join("blender_workbench.py");
     std::fs::write(&blender, BLENDER_SCRIPT)
         .with_context(|| format!("writing {}", blender.display()))?;
@@ -109,8 +105,7 @@ fn run_rounds(args: &Args, renderers: &[Renderer], scratch: &Path) -> anyhow::Re
         eprintln!("bench peers: round {round} of {}", args.rounds);
         let dataset = scratch.join("blockworld-dataset");
         let _ = std::fs::remove_dir_all(&dataset);
-        r.bw_scenes_per_s
-            .push(blockworld_generate(args, renderers, &dataset)?);
+        r.bw_scenes_per_s.push(blockworld_generate(args, &dataset)?);
         let out = scratch.join("kubric-out").display().to_string();
         let kubric = args.peers_dir.join("kubric_style_bench.py");
         let k = peer(
@@ -158,11 +153,13 @@ fn strings(items: &[&str]) -> Vec<String> {
 }
 
 /// scenes/s of `generate` (default families, the view options given) into `dir`, through
-/// `generate`'s renderers (one device per worker).
-fn blockworld_generate(args: &Args, renderers: &[Renderer], dir: &Path) -> anyhow::Result<f64> {
+/// `generate`'s renderers (one device per worker), made before the clock starts and dropped
+/// after the run, so the render comparison that follows runs beside no other device.
+fn blockworld_generate(args: &Args, dir: &Path) -> anyhow::Result<f64> {
+    let renderers = renderers_for(&args.view, args.jobs)?;
     let opts = checked_options(args.count, &[], &args.view, args.jobs, Shard::WHOLE)?;
     let started = Instant::now();
-    let s = generate_dataset(dir, &opts, renderers, &|_, _| {})
+    let s = generate_dataset(dir, &opts, &renderers, &|_, _| {})
         .with_context(|| format!("generating {}", dir.display()))?;
     Ok(s.generated as f64 / started.elapsed().as_secs_f64().max(1e-9))
 }
