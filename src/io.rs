@@ -29,9 +29,9 @@ pub enum FileSync {
     EveryFile,
     /// Rename only: the file survives a killed process (the page cache keeps it), not a power
     /// loss; for outputs whose resume re-hashes every file against its manifest, which finds
-    /// and redoes what a power loss damaged (`generate`'s scenes, README "Settling and
-    /// datasets"; `export-dataset`'s pictures and part files, README "Wireframe datasets"),
-    /// where a sync per file makes the disk the bottleneck.
+    /// and redoes what a power loss damaged (`generate`'s scenes and their done markers, README
+    /// "Settling and datasets"; `export-dataset`'s pictures and part files, README "Wireframe
+    /// datasets"), where a sync per file makes the disk the bottleneck.
     Verified,
 }
 

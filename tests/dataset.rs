@@ -714,7 +714,7 @@ fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
 }
 
 /// `--fsync` (every file forced to disk) changes when bytes reach the disk, never which bytes:
-/// the dataset equals the default run's, which syncs only each scene's done marker.
+/// the dataset equals the default run's, which syncs no scene file (only the manifest).
 #[test]
 fn fsync_every_file_writes_the_same_dataset_as_the_default() {
     let tmp = tempfile::tempdir().unwrap();
@@ -722,6 +722,33 @@ fn fsync_every_file_writes_the_same_dataset_as_the_default() {
     generate(&synced, 3, &["--size", "128x120", "--fsync"]);
     generate(&verified, 3, &["--size", "128x120"]);
     assert_same_tree(&synced, &verified);
+}
+
+/// What a power loss can leave of files renamed into place without a sync (the default for
+/// every scene file, `done.json` included): an empty file, or one of the right length holding
+/// zeros. A resume parses each scene's done marker and re-hashes the files it lists, so it
+/// redoes exactly the scenes so damaged, and the dataset equals an uninterrupted run's.
+#[test]
+fn a_resume_redoes_scenes_whose_unsynced_files_a_power_loss_damaged() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (damaged, clean) = (tmp.path().join("damaged"), tmp.path().join("clean"));
+    let opts = ["--views", ""];
+    generate(&damaged, 6, &opts);
+    let zeroed = |path: &Path| {
+        let len = std::fs::metadata(path).unwrap().len() as usize;
+        std::fs::write(path, vec![0u8; len]).unwrap();
+    };
+    std::fs::write(damaged.join("s000001/done.json"), b"").unwrap();
+    zeroed(&damaged.join("s000002/done.json"));
+    zeroed(&damaged.join("s000004/scene.json"));
+    std::fs::remove_file(damaged.join("manifest.jsonl")).unwrap();
+    let out = generate(&damaged, 6, &opts);
+    assert!(
+        out.contains("6 scenes: 3 generated, 3 kept from an earlier run"),
+        "{out}"
+    );
+    generate(&clean, 6, &opts);
+    assert_same_tree(&damaged, &clean);
 }
 
 /// `scripts/slurm_generate.sh` refuses an array index that is not a shard, before it writes

@@ -64,7 +64,11 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ("anyhow", &["cli"]),
     ("gltf", &["export"]),
     ("indicatif", &["cli"]),
-    ("libc", &["dataset/lock", "dataset/memory"]),
+    (
+        "libc",
+        &["dataset/lock", "dataset/memory", "dataset/placement"],
+    ),
+    ("png", &["output"]),
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {

@@ -9,7 +9,8 @@ use blockworld::drawing::{EdgeAxis, Junction, LineDrawing};
 use blockworld::geom::{DVec2, DVec3};
 use blockworld::vision::{
     decode_gray, detect_line_drawing, detect_with_directions, isometric_edge_directions,
-    match_vertices, picture_directions, VisionError, VisionOptions,
+    match_vertices, picture_directions, smooth_3x3, sobel_magnitude, SmoothWindow, VisionError,
+    VisionOptions,
 };
 use image::{GrayImage, Luma};
 use rand::{Rng, SeedableRng};
@@ -468,6 +469,7 @@ fn cli_vertices_and_edges_on_fixtures() {
     assert_eq!(d.lines.len(), 9);
 
     let edges = tmp.path().join("e.png");
+    let magnitude = tmp.path().join("m.png");
     let st = std::process::Command::new(exe)
         .arg("edges")
         .arg(fx.join("view_ne.png"))
@@ -475,12 +477,22 @@ fn cli_vertices_and_edges_on_fixtures() {
         .arg(&edges)
         .arg("--threshold")
         .arg("80")
+        .arg("--magnitude")
+        .arg(&magnitude)
         .status()
         .unwrap();
     assert!(st.success());
     let e = image::open(&edges).unwrap().into_luma8();
     assert!(e.as_raw().iter().all(|&x| x == 0 || x == 255));
     assert!(e.as_raw().contains(&255));
+    // The magnitude PNG holds the smoothed magnitudes themselves (16-bit, not byte-swapped).
+    let view = image::open(fx.join("view_ne.png")).unwrap().into_luma8();
+    let want = smooth_3x3(&sobel_magnitude(&view), SmoothWindow::Centred);
+    let m = image::open(&magnitude).unwrap().into_luma16();
+    assert!(
+        m == want,
+        "the magnitude PNG differs from smooth_3x3(sobel_magnitude(view))"
+    );
 
     let small = tmp.path().join("small.png");
     GrayImage::new(64, 48).save(&small).unwrap();

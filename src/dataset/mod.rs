@@ -13,6 +13,7 @@ mod generate;
 mod lock;
 mod manifest;
 mod memory;
+mod placement;
 mod shard;
 mod writer;
 

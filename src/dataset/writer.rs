@@ -57,7 +57,8 @@ pub struct DatasetOptions {
     /// adds `scene.glb`); `None` (the default) writes none.
     pub scene_file: Option<SceneFileEncoder>,
     /// When each scene's files reach the disk: [`FileSync::Verified`] (the default of
-    /// `generate`) syncs only the scene's done marker, since a resume re-hashes every file;
+    /// `generate`) syncs none of them, its done marker included, since a resume parses the
+    /// marker and re-hashes every file it lists (README "Settling and datasets", durability);
     /// [`FileSync::EveryFile`] (`--fsync`) syncs every file. Does not change the content.
     pub file_sync: FileSync,
 }
@@ -344,8 +345,10 @@ fn produce_scene(
         attempts: drawn.attempts,
         files,
     };
+    // Written last and, by default, not synced: after a power loss a marker that did not reach
+    // the disk whole fails to parse, or lists hashes its files fail, and the scene is redone.
     let done = scene_dir.join(DONE_FILE);
-    write_atomic(&done, entry.to_line().as_bytes()).map_err(io_err(&done))?;
+    write_atomic_with(&done, entry.to_line().as_bytes(), opts.file_sync).map_err(io_err(&done))?;
     times.write_s = t.elapsed().as_secs_f64();
     Ok(SceneOutcome {
         entry,
@@ -358,22 +361,34 @@ fn produce_scene(
 const CHUNK_SCENES: usize = 1024;
 
 /// Generates (or resumes) this shard of the dataset in `dir`, in parallel on `opts.jobs`
-/// threads, rendering through the one shared `renderer`. `progress(done, total)` is called
+/// threads, rendering through `renderers` (none when `opts.views` is empty): worker `k` renders
+/// through `renderers[k % renderers.len()]`, so with a device per worker two scenes render at
+/// once instead of queueing for one device's lock (README "Benchmarks"; every device renders
+/// the same bytes). `progress(done, total)` is called
 /// after each scene. Holds the dataset lock (a second writer of the same scenes is refused),
 /// streams the scenes in chunks of [`CHUNK_SCENES`] and their manifest lines into a temporary
 /// file that is renamed into place last, so memory does not grow with `opts.count`.
 pub fn generate_dataset(
     dir: &Path,
     opts: &DatasetOptions,
-    renderer: Option<&Renderer>,
+    renderers: &[Renderer],
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<GenerateSummary, DatasetError> {
     check_options(opts)?;
-    if !opts.views.is_empty() && renderer.is_none() {
+    if !opts.views.is_empty() && renderers.is_empty() {
         return Err(DatasetError::NoRenderer);
     }
     super::memory::keep_freed_pictures_in_heap();
+    let new_folder = !dir.exists();
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    if new_folder {
+        // Only a folder this run made: a user's existing folder keeps its attributes.
+        let spread = super::placement::spread_scene_folders(dir);
+        tracing::debug!(
+            spread,
+            "scene folders spread over the file system's block groups"
+        );
+    }
     let _lock = super::lock::lock_dataset(dir, opts.shard)?;
     let manifest_name = if opts.shard.is_whole() {
         MANIFEST_NAME.to_string()
@@ -388,7 +403,7 @@ pub fn generate_dataset(
         .map_err(|e| DatasetError::Options(format!("--jobs: {e}")))?;
     let manifest = dir.join(manifest_name);
     let tmp = crate::io::temp_path(&manifest);
-    let result = stream_scenes(dir, opts, renderer, progress, &pool, &tmp).and_then(|mut s| {
+    let result = stream_scenes(dir, opts, renderers, progress, &pool, &tmp).and_then(|mut s| {
         std::fs::rename(&tmp, &manifest).map_err(io_err(&manifest))?;
         s.manifest = manifest.clone();
         Ok(s)
@@ -399,12 +414,19 @@ pub fn generate_dataset(
     result
 }
 
+/// The renderer of the calling worker thread: `renderers[k % len]` for worker `k` of the pool
+/// (the first outside a pool); `None` when there are none.
+fn worker_renderer(renderers: &[Renderer]) -> Option<&Renderer> {
+    let k = rayon::current_thread_index().unwrap_or(0);
+    renderers.get(k % renderers.len().max(1))
+}
+
 /// Produces the shard's scenes chunk by chunk and appends their manifest lines, in index
 /// order, to `manifest_tmp`.
 fn stream_scenes(
     dir: &Path,
     opts: &DatasetOptions,
-    renderer: Option<&Renderer>,
+    renderers: &[Renderer],
     progress: &(dyn Fn(u64, u64) + Sync),
     pool: &rayon::ThreadPool,
     manifest_tmp: &Path,
@@ -438,7 +460,7 @@ fn stream_scenes(
             specs
                 .par_iter()
                 .map(|spec| {
-                    let out = produce_scene(dir, spec, opts, renderer);
+                    let out = produce_scene(dir, spec, opts, worker_renderer(renderers));
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                     out
                 })

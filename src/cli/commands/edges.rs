@@ -4,8 +4,9 @@
 
 use crate::cli::files::read_picture;
 use anyhow::Context;
+use blockworld::output::{encode_png_gray16, encode_png_gray8};
 use blockworld::vision::{smooth_3x3, sobel_magnitude, threshold, EdgeOptions, SmoothWindow};
-use image::{GrayImage, ImageEncoder};
+use image::GrayImage;
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld edges`.
@@ -49,20 +50,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unwrap_or_else(|| sibling(&args.view, "_edges.png"));
     write_png_gray8(&out, &edges)?;
     if let Some(m) = &args.magnitude {
-        let mut bytes = Vec::new();
-        let be: Vec<u8> = smoothed
-            .as_raw()
-            .iter()
-            .flat_map(|v| v.to_be_bytes())
-            .collect();
-        image::codecs::png::PngEncoder::new(&mut bytes)
-            .write_image(
-                &be,
-                smoothed.width(),
-                smoothed.height(),
-                image::ExtendedColorType::L16,
-            )
-            .context("encoding the magnitude PNG")?;
+        let bytes = encode_png_gray16(&smoothed).context("encoding the magnitude PNG")?;
         blockworld::io::write_atomic(m, &bytes)
             .with_context(|| format!("writing {}", m.display()))?;
     }
@@ -101,15 +89,7 @@ fn sibling(p: &Path, suffix: &str) -> PathBuf {
 
 /// Writes an 8-bit gray PNG atomically.
 fn write_png_gray8(path: &Path, img: &GrayImage) -> anyhow::Result<()> {
-    let mut bytes = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(
-            img.as_raw(),
-            img.width(),
-            img.height(),
-            image::ExtendedColorType::L8,
-        )
-        .context("encoding the edge PNG")?;
+    let bytes = encode_png_gray8(img).context("encoding the edge PNG")?;
     blockworld::io::write_atomic(path, &bytes)
         .with_context(|| format!("writing {}", path.display()))
 }

@@ -46,8 +46,8 @@ pub struct Args {
     /// Also write each settled scene as binary glTF, `scene.glb`, listed in the manifest.
     #[arg(long)]
     pub gltf: bool,
-    /// Force every file to disk before it is renamed into place (default: only each scene's
-    /// done marker; a resume re-hashes every file, which finds what a power loss damaged).
+    /// Force every file to disk before it is renamed into place (default: none but the
+    /// manifest; a resume re-hashes every file, which finds what a power loss damaged).
     #[arg(long)]
     pub fsync: bool,
     /// How views are rendered; `--views ""` writes scene.json only. `--seed` is the dataset seed.
@@ -159,6 +159,38 @@ pub fn checked_options(
     })
 }
 
+/// Renderers for a dataset run on `jobs` worker threads (0 = one per core): one device per
+/// worker, at most [`MAX_RENDERERS`], so workers render side by side instead of waiting for one
+/// device (README "Benchmarks"); none when no views are asked for.
+pub fn renderers_for(args: &ViewArgs, jobs: usize) -> anyhow::Result<Vec<Renderer>> {
+    let workers = if jobs == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        jobs
+    };
+    let Some(first) = renderer_for(args)? else {
+        return Ok(Vec::new());
+    };
+    let mut renderers = vec![first];
+    while renderers.len() < workers.clamp(1, MAX_RENDERERS) {
+        // A device that will not open a second time (an exclusive GPU) leaves the workers
+        // sharing the ones there are.
+        match renderer_for(args) {
+            Ok(Some(r)) => renderers.push(r),
+            Ok(None) => break,
+            Err(e) => {
+                tracing::info!("rendering through {} device(s): {e:#}", renderers.len());
+                break;
+            }
+        }
+    }
+    Ok(renderers)
+}
+
+/// Most renderers (devices) a dataset run creates: each lavapipe device starts its own
+/// rasterizer threads, one per core.
+pub const MAX_RENDERERS: usize = 4;
+
 /// Creates the renderer when views are asked for.
 pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
     if args.corner_views()?.is_empty() {
@@ -173,11 +205,11 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
 /// Runs `blockworld generate`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = dataset_options(&args)?;
-    let renderer = renderer_for(&args.view)?;
+    let renderers = renderers_for(&args.view, args.jobs)?;
     let total = opts.shard.len(opts.count);
     let started = Instant::now();
     let summary = with_progress("generate", "scenes", total, |progress| {
-        generate_dataset(&args.output, &opts, renderer.as_ref(), progress)
+        generate_dataset(&args.output, &opts, &renderers, progress)
     })
     .map_err(|e| with_fix(e, &args.output))?;
     report(&summary, &opts, started.elapsed().as_secs_f64())

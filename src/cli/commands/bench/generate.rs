@@ -4,7 +4,7 @@
 //! the photographic look by default, side by side with the photo / line art ratio: README
 //! "Photographic look").
 
-use crate::cli::commands::generate::{checked_options, renderer_for};
+use crate::cli::commands::generate::{checked_options, renderers_for};
 use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
@@ -63,14 +63,14 @@ fn measure(args: &Args, look: &str) -> anyhow::Result<(Measured, usize, Option<S
         ..args.view.clone()
     };
     let opts = checked_options(args.count, &args.families, &view, args.jobs, Shard::WHOLE)?;
-    let renderer = renderer_for(&view)?;
+    let renderers = renderers_for(&view, args.jobs)?;
     let dir = std::env::temp_dir().join(format!("blockworld-bench-{}-{look}", std::process::id()));
     let started = Instant::now();
     let result = with_progress(
         &format!("bench generate ({look})"),
         "scenes",
         opts.count,
-        |p| generate_dataset(&dir, &opts, renderer.as_ref(), p),
+        |p| generate_dataset(&dir, &opts, &renderers, p),
     );
     let wall_s = started.elapsed().as_secs_f64();
     let _ = std::fs::remove_dir_all(&dir);
@@ -89,7 +89,11 @@ fn measure(args: &Args, look: &str) -> anyhow::Result<(Measured, usize, Option<S
         blocks: s.blocks,
         unstable_draws: s.unstable_draws,
     };
-    Ok((measured, threads, renderer.map(|r| r.adapter_info())))
+    Ok((
+        measured,
+        threads,
+        renderers.first().map(|r| r.adapter_info()),
+    ))
 }
 
 /// Runs the benchmark, one dataset per look, and prints one table with a column per look.

@@ -11,7 +11,7 @@
 //! "Benchmarks").
 
 use super::machine::banner;
-use crate::cli::commands::generate::{checked_options, renderer_for};
+use crate::cli::commands::generate::{checked_options, renderer_for, renderers_for};
 use crate::cli::files::{read_camera, read_picture};
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
@@ -105,8 +105,7 @@ fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Resul
         eprintln!("bench peers: round {round} of {}", args.rounds);
         let dataset = scratch.join("blockworld-dataset");
         let _ = std::fs::remove_dir_all(&dataset);
-        r.bw_scenes_per_s
-            .push(blockworld_generate(args, renderer, &dataset)?);
+        r.bw_scenes_per_s.push(blockworld_generate(args, &dataset)?);
         let out = scratch.join("kubric-out").display().to_string();
         let kubric = args.peers_dir.join("kubric_style_bench.py");
         let k = peer(
@@ -153,11 +152,14 @@ fn strings(items: &[&str]) -> Vec<String> {
     items.iter().map(|s| s.to_string()).collect()
 }
 
-/// scenes/s of `generate` (default families, the view options given) into `dir`.
-fn blockworld_generate(args: &Args, renderer: &Renderer, dir: &Path) -> anyhow::Result<f64> {
+/// scenes/s of `generate` (default families, the view options given) into `dir`, through
+/// `generate`'s renderers (one device per worker), made before the clock starts and dropped
+/// after the run, so the render comparison that follows runs beside no other device.
+fn blockworld_generate(args: &Args, dir: &Path) -> anyhow::Result<f64> {
+    let renderers = renderers_for(&args.view, args.jobs)?;
     let opts = checked_options(args.count, &[], &args.view, args.jobs, Shard::WHOLE)?;
     let started = Instant::now();
-    let s = generate_dataset(dir, &opts, Some(renderer), &|_, _| {})
+    let s = generate_dataset(dir, &opts, &renderers, &|_, _| {})
         .with_context(|| format!("generating {}", dir.display()))?;
     Ok(s.generated as f64 / started.elapsed().as_secs_f64().max(1e-9))
 }

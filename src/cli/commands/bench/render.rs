@@ -8,7 +8,7 @@
 
 use anyhow::Context;
 use blockworld::camera::CornerView;
-use blockworld::output::{encode_png_gray16, encode_png_gray8};
+use blockworld::output::{encode_png_depth, encode_png_gray8, encode_png_ids};
 use blockworld::render::{Backend, RenderOptions, Renderer};
 use blockworld::scene::{b15_layers, Scene};
 use std::time::{Duration, Instant};
@@ -94,8 +94,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let png = time_views(iterations, |view| {
             let v = renderer.render_pixels(&scene, view, &opts)?;
             let encoded = encode_png_gray8(&v.gray)
-                .and_then(|_| encode_png_gray16(&v.depth))
-                .and_then(|_| encode_png_gray16(&v.ids));
+                .and_then(|_| encode_png_depth(&v.depth))
+                .and_then(|_| encode_png_ids(&v.ids));
             if let Err(e) = encoded {
                 encode_error = Some(e);
             }
