@@ -459,8 +459,12 @@ fn find_hypothesis(
     if chosen.mismatch() == 0 || pictures.is_empty() || explained(&chosen) {
         return chosen;
     }
-    let repaired = repaired_in_pictures(&chosen, &pool, views, limits, &explained)
-        .or_else(|| repaired_in_pictures(&continued, &pool, views, limits, &explained));
+    let repaired = repaired_in_pictures(&chosen, &pool, views, limits, &explained).or_else(|| {
+        // The same blocks have the same neighbours: tried once.
+        (continued.blocks != chosen.blocks)
+            .then(|| repaired_in_pictures(&continued, &pool, views, limits, &explained))
+            .flatten()
+    });
     repaired.unwrap_or(chosen)
 }
 

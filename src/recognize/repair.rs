@@ -15,7 +15,7 @@
 //! check (the views deciding the blocks, support), so a neighbour only replaces a hypothesis
 //! that would have been declined.
 
-use super::catalog_match::{blocks_overlap, bounds_mm};
+use super::catalog_match::{blocks_overlap, bounds_mm, touching_pairs};
 use super::compare::{corner_gain, Hypothesis, PooledCandidate, SearchLimits, FLUSH_TOL_MM};
 use super::ObservedView;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
@@ -187,34 +187,29 @@ const FILL_TOL_MM: f64 = 1.0;
 /// other way), each overlapping no other block: `(i, j, a, b)`.
 fn pair_retilings(blocks: &[Block], candidates: &[Block]) -> Vec<(usize, usize, Block, Block)> {
     let mut out = Vec::new();
-    for i in 0..blocks.len() {
-        for j in i + 1..blocks.len() {
-            let (bi, bj) = (bounds_mm(&blocks[i]), bounds_mm(&blocks[j]));
-            if !touching(bi, bj) {
-                continue;
-            }
-            let volume = blocks[i].volume_mm3() + blocks[j].volume_mm3();
-            let inside: Vec<&Block> = candidates
-                .iter()
-                .filter(|c| {
-                    let bc = bounds_mm(c);
-                    let covered = overlap_volume_mm3(bc, bi) + overlap_volume_mm3(bc, bj);
-                    (covered - c.volume_mm3()).abs() <= FILL_TOL_MM3
-                })
-                .filter(|c| !same_block(c, &blocks[i]) && !same_block(c, &blocks[j]))
-                .filter(|c| {
-                    blocks
-                        .iter()
-                        .enumerate()
-                        .all(|(k, b)| k == i || k == j || !blocks_overlap(b, c))
-                })
-                .collect();
-            for (m, a) in inside.iter().enumerate() {
-                for b in &inside[m + 1..] {
-                    let v = a.volume_mm3() + b.volume_mm3();
-                    if !blocks_overlap(a, b) && (v - volume).abs() <= FILL_TOL_MM3 {
-                        out.push((i, j, **a, **b));
-                    }
+    for [i, j] in touching_pairs(blocks, 2.0 * CONTACT_TOL_MM) {
+        let (bi, bj) = (bounds_mm(&blocks[i]), bounds_mm(&blocks[j]));
+        let volume = blocks[i].volume_mm3() + blocks[j].volume_mm3();
+        let inside: Vec<&Block> = candidates
+            .iter()
+            .filter(|c| {
+                let bc = bounds_mm(c);
+                let covered = overlap_volume_mm3(bc, bi) + overlap_volume_mm3(bc, bj);
+                (covered - c.volume_mm3()).abs() <= FILL_TOL_MM3
+            })
+            .filter(|c| !same_block(c, &blocks[i]) && !same_block(c, &blocks[j]))
+            .filter(|c| {
+                blocks
+                    .iter()
+                    .enumerate()
+                    .all(|(k, b)| k == i || k == j || !blocks_overlap(b, c))
+            })
+            .collect();
+        for (m, a) in inside.iter().enumerate() {
+            for b in &inside[m + 1..] {
+                let v = a.volume_mm3() + b.volume_mm3();
+                if !blocks_overlap(a, b) && (v - volume).abs() <= FILL_TOL_MM3 {
+                    out.push((i, j, **a, **b));
                 }
             }
         }
@@ -229,16 +224,6 @@ const FILL_TOL_MM3: f64 = 60.0;
 /// The volume two boxes share, mm^3.
 fn overlap_volume_mm3((la, ha): (DVec3, DVec3), (lb, hb): (DVec3, DVec3)) -> f64 {
     (ha.min(hb) - la.max(lb)).max(DVec3::ZERO).element_product()
-}
-
-/// `true` when two boxes share part of a face (touch within the contact tolerance, overlap on
-/// the other two axes).
-fn touching((la, ha): (DVec3, DVec3), (lb, hb): (DVec3, DVec3)) -> bool {
-    let pen = ha.min(hb) - la.max(lb);
-    let tol = 2.0 * CONTACT_TOL_MM;
-    let touching_axes = pen.to_array().iter().filter(|p| p.abs() <= tol).count();
-    let overlapping_axes = pen.to_array().iter().filter(|&&p| p > tol).count();
-    touching_axes == 1 && overlapping_axes == 2
 }
 
 /// The first neighbour of `h` (see the module doc) that `explained` accepts, trying at most
