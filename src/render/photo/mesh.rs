@@ -720,6 +720,11 @@ mod tests {
         Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)
     }
 
+    /// The corner view `view` framing [`cube`], as `render` frames a scene of it alone.
+    fn cube_camera(view: CornerView) -> Camera {
+        Camera::frame(&cube().world_vertices(), view, &CameraOptions::default())
+    }
+
     #[test]
     fn a_bevelled_cube_has_6_faces_12_strips_8_corners_and_stays_inside() {
         let polygons = bevelled_block(&cube(), BEVEL_MM, &[CRACK_MM / 2.0; 6]);
@@ -751,11 +756,7 @@ mod tests {
     #[test]
     fn every_triangle_faces_outward_and_the_bevel_strips_lean_between_faces() {
         let scene = Scene::new("c", vec![cube()]);
-        let cam = Camera::frame(
-            &cube().world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
+        let cam = cube_camera(CornerView::Ne);
         let v = photo_vertices(&scene, &cam, &[1.0]);
         assert_eq!(v.len(), (6 * 2 + 12 * 2 + 8) * 3 + 6);
         let centre = DVec3::new(0.0, 7.5, 0.0);
@@ -780,11 +781,7 @@ mod tests {
 
     #[test]
     fn the_light_is_seeded_per_scene_and_albedos_stay_in_range() {
-        let cam = Camera::frame(
-            &cube().world_vertices(),
-            CornerView::Se,
-            &CameraOptions::default(),
-        );
+        let cam = cube_camera(CornerView::Se);
         let still = key_light(&cam, 0.0, 1);
         let base = light_in_world(&cam).normalize();
         assert!((still.towards_light - base).length() < 1e-9);
@@ -848,11 +845,7 @@ mod tests {
 
     #[test]
     fn only_faces_and_floor_near_another_block_get_the_shadow_test() {
-        let cam = Camera::frame(
-            &cube().world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
+        let cam = cube_camera(CornerView::Ne);
         let light = key_light(&cam, 0.0, 1).towards_light;
         let lone = Scene::new("c", vec![cube()]);
         let m = photo_mesh(&lone, &cam, &[0.9], light, 9.0);
@@ -885,11 +878,7 @@ mod tests {
 
     #[test]
     fn a_face_partly_within_reach_is_split_and_drawn_whole_behind() {
-        let cam = Camera::frame(
-            &cube().world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
+        let cam = cube_camera(CornerView::Ne);
         let light = key_light(&cam, 0.0, 1).towards_light;
         // A cube on top of another, shifted away from the light: the lower top's half on the
         // light's side is lit beyond 3 mm from the upper block.
@@ -931,11 +920,7 @@ mod tests {
         // Two cubes side by side, touching: each top is flush with the other's, so neither top
         // needs the shadow test, though each block's box, grown by the reach, meets the
         // other's.
-        let cam = Camera::frame(
-            &cube().world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
+        let cam = cube_camera(CornerView::Ne);
         let light = key_light(&cam, 0.0, 1).towards_light;
         let beside = Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0);
         let row = Scene::new("r", vec![cube(), beside]);
