@@ -367,8 +367,11 @@ fn ray_hit(scene: &Scene, c: &Camera, o: DVec3, d: DVec3) -> Option<(u16, f64)> 
 
 /// Every pixel's id and depth against the exact ray cast; pixels whose centre lies within
 /// 0.01 px of an outline (where the rasterizer's sub-pixel grid may decide either way) are skipped.
+/// Where the floor is computed instead of drawn (`render::floor_fill`), its depth is the ray
+/// cast's rounded to the step, not only within a step of it.
 fn check_depth_and_ids(scene: &Scene, v: &RenderedView) {
     let c = &v.camera;
+    let floor_computed = blockworld::render::floor_fill(scene, c).is_some();
     let (w, h) = v.gray.dimensions();
     let tol_mm = 1.0 / DEPTH_UNITS_PER_MM;
     let (mut checked, mut skipped) = (0usize, 0usize);
@@ -402,6 +405,15 @@ fn check_depth_and_ids(scene: &Scene, v: &RenderedView) {
                             (got_mm - want_mm).abs() <= tol_mm,
                             "pixel ({x}, {row}): depth {got_mm} mm, ray {want_mm} mm"
                         );
+                        let steps = want_mm * DEPTH_UNITS_PER_MM;
+                        let tie = (steps.fract() - 0.5).abs() < 1e-6;
+                        if want_id == 0 && floor_computed && !tie {
+                            assert_eq!(
+                                f64::from(depth),
+                                steps.round_ties_even().max(1.0),
+                                "floor pixel ({x}, {row}): ray {want_mm} mm"
+                            );
+                        }
                     }
                 }
             }

@@ -202,7 +202,10 @@ pub const SEAM_LEVEL: u8 = 35;
 /// pixel centres (common with symmetric framing) marks both of them instead of neither.
 pub const SEAM_HALF_WIDTH_PX: f64 = 0.55;
 
-pub use gpu::mesh::{face_gray_level, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO, LIGHT_IN_CAMERA_FRAME};
+pub use gpu::mesh::{
+    face_gray_level, floor_fill, FloorFill, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO,
+    LIGHT_IN_CAMERA_FRAME,
+};
 
 /// The renderer: one wgpu device, created once and reused for any number of scenes; `Sync`, so
 /// worker threads can share it (rendering itself is serialised on one queue).
@@ -300,6 +303,7 @@ impl Renderer {
             .map(|(c, m)| gpu::FrameRequest {
                 vertices: m,
                 uniforms: frame_uniforms(c),
+                floor: gpu::mesh::floor_fill(scene, c),
             })
             .collect();
         let frames = self

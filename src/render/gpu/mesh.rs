@@ -114,8 +114,14 @@ pub fn scene_vertices(scene: &Scene, camera: &Camera) -> Result<Vec<Vertex>, Too
     Ok(out)
 }
 
+/// Half the side of the floor square under `camera`'s target, mm: the far clip distance, at
+/// least a metre.
+fn floor_half_side_mm(camera: &Camera) -> f64 {
+    camera.near_far_mm[1].max(1000.0)
+}
+
 fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
-    let half = camera.near_far_mm[1].max(1000.0);
+    let half = floor_half_side_mm(camera);
     let [cx, _, cz] = camera.target_mm;
     let corner = |dx: f64, dz: f64| DVec3::new(cx + dx * half, 0.0, cz + dz * half);
     // Counter-clockwise seen from above.
@@ -134,6 +140,120 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
             block_id: 0,
         });
     }
+}
+
+/// The floor of a picture it fills, computed instead of rasterized (README "Peer ratios"):
+/// when the floor square of [`scene_vertices`] covers the whole picture between the near and
+/// far planes (the usual corner view), the floor's pixels are exactly those no block covers,
+/// all of one gray level, and their depth along the optical axis is a plane's, affine across
+/// the picture (its reciprocal for a perspective camera). The GPU then draws only the blocks
+/// and the readback writes the floor's depth, evaluated in f64 at each pixel centre and
+/// rounded as the shader rounds a drawn fragment's (`depth_of` in `shaders/scene.wgsl`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FloorFill {
+    /// Gray level of the floor ([`face_gray_level`] of the floor's normal).
+    pub gray_level: u8,
+    /// Depth (perspective: its reciprocal, 1/mm) at the centre of raster pixel (0, 0), top
+    /// left, and its steps per column and per row.
+    at_first_px: f64,
+    per_column: f64,
+    per_row: f64,
+    /// `true` when the affine quantity is 1 / depth (a perspective camera).
+    reciprocal: bool,
+}
+
+impl FloorFill {
+    /// The floor's depth at raster pixel (`column`, `row`) (row 0 at the top) in depth-picture
+    /// steps of 1/16 mm, rounded half to even and clamped to 1..=65535 as the shader does.
+    pub fn depth_units(&self, column: usize, row: usize) -> u16 {
+        let mut one = [0u16];
+        self.depth_units_of_row(row, &[column as f64], &mut one);
+        one[0]
+    }
+
+    /// [`FloorFill::depth_units`] of the pixels of raster row `row` at `columns` (as f64),
+    /// into `out`: one loop the compiler vectorizes (no rounding call, no branch per pixel).
+    pub fn depth_units_of_row(&self, row: usize, columns: &[f64], out: &mut [u16]) {
+        let base = self.at_first_px + self.per_row * row as f64;
+        let step = self.per_column;
+        let units = crate::camera::DEPTH_UNITS_PER_MM;
+        // Adding 2^52 to a number in 0..2^51 rounds it to an integer, half to even (IEEE round
+        // to nearest: the shader's `round`), and leaves that integer in the low bits of the
+        // sum's mantissa: no rounding call and no float-to-integer conversion per pixel.
+        const ROUND: f64 = 4_503_599_627_370_496.0;
+        // `max` then `min` (not `clamp`) compile to the packed max and min instructions.
+        #[allow(clippy::manual_clamp)]
+        let quantize = |depth_mm: f64| {
+            let x = (depth_mm * units).max(1.0).min(65535.0);
+            (x + ROUND).to_bits() as u16
+        };
+        if self.reciprocal {
+            for (o, &c) in out.iter_mut().zip(columns) {
+                *o = quantize(1.0 / (base + step * c));
+            }
+        } else {
+            for (o, &c) in out.iter_mut().zip(columns) {
+                *o = quantize(base + step * c);
+            }
+        }
+    }
+}
+
+/// Margin inside the floor square and the clip depths within which a picture corner must see
+/// the floor for [`floor_fill`], mm: far beyond any rounding of the rasterizer.
+const FLOOR_FILL_MARGIN_MM: f64 = 1.0;
+
+/// The [`FloorFill`] of `scene` seen by `camera` when the floor fills the whole picture: the
+/// rays through the four picture corners meet the floor inside its square, in front of the eye
+/// and between the near and far planes (the region where that holds is convex in the picture,
+/// so the corners decide for every pixel), the eye is above the floor, and no block reaches
+/// below it (scene validation allows a block to sink by the contact tolerance; the floor must
+/// then hide that part, so it is drawn). `None` otherwise: the floor is then drawn.
+pub fn floor_fill(scene: &Scene, camera: &Camera) -> Option<FloorFill> {
+    let sinks = scene
+        .blocks
+        .iter()
+        .any(|b| b.world_vertices().iter().any(|p| p.y < 0.0));
+    if sinks {
+        return None;
+    }
+    let projector = crate::camera::Projector::new(camera);
+    let [w, h] = camera.size_px.map(f64::from);
+    let [near, far] = camera.near_far_mm;
+    let half = floor_half_side_mm(camera) - FLOOR_FILL_MARGIN_MM;
+    let [cx, _, cz] = camera.target_mm;
+    if camera.towards_eye().y <= 0.0 || (!camera.is_orthographic() && camera.eye().y <= 0.0) {
+        return None;
+    }
+    let floor_depth_mm = |x_px: f64, y_px: f64| -> Option<f64> {
+        let (origin, direction) = projector.ray(DVec2::new(x_px, y_px));
+        if direction.y >= -1e-12 {
+            return None;
+        }
+        let hit = origin + direction * (-origin.y / direction.y);
+        let inside = (hit.x - cx).abs() <= half && (hit.z - cz).abs() <= half;
+        let depth_mm = projector.depth_mm(hit);
+        let in_range =
+            depth_mm >= near + FLOOR_FILL_MARGIN_MM && depth_mm <= far - FLOOR_FILL_MARGIN_MM;
+        (inside && in_range).then_some(depth_mm)
+    };
+    for [x, y] in [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]] {
+        floor_depth_mm(x, y)?;
+    }
+    // Raster pixel (column, row) has its centre at picture (column + 0.5, h - row - 0.5).
+    let reciprocal = !camera.is_orthographic();
+    let affine = |column: f64, row: f64| -> Option<f64> {
+        let d = floor_depth_mm(column + 0.5, h - row - 0.5)?;
+        Some(if reciprocal { 1.0 / d } else { d })
+    };
+    let at_first_px = affine(0.0, 0.0)?;
+    Some(FloorFill {
+        gray_level: face_gray_level(DVec3::Y, FLOOR_ALBEDO, camera),
+        at_first_px,
+        per_column: affine(1.0, 0.0)? - at_first_px,
+        per_row: affine(0.0, 1.0)? - at_first_px,
+        reciprocal,
+    })
 }
 
 /// Scale of a silhouette edge's line `(a, b, c)`: the shader reads `a^2 + b^2 = 4` as the
@@ -420,6 +540,111 @@ mod tests {
 
     fn cube() -> Scene {
         Scene::new("c", vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)])
+    }
+
+    /// The exact depth, in 1/16 mm rounded half to even, of the floor point seen through the
+    /// centre of raster pixel (`column`, `row`): a ray cast independent of [`FloorFill`].
+    fn ray_cast_floor_units(camera: &Camera, column: u32, row: u32) -> f64 {
+        let h = f64::from(camera.size_px[1]);
+        let (o, d) = camera.ray_through_picture(f64::from(column) + 0.5, h - f64::from(row) - 0.5);
+        let hit = o + d * (-o.y / d.y);
+        camera.picture_from_world(hit).z * crate::camera::DEPTH_UNITS_PER_MM
+    }
+
+    /// Pixels of a grid over the picture whose [`FloorFill`] depth is not the ray cast's, rounded.
+    fn floor_depths_off(fill: &FloorFill, camera: &Camera) -> usize {
+        let [w, h] = camera.size_px;
+        let mut off = 0;
+        for row in (0..h).step_by(7) {
+            for column in (0..w).step_by(5) {
+                let want = ray_cast_floor_units(camera, column, row);
+                // A depth within 1e-6 of a rounding tie could go either way.
+                let tie = (want.fract() - 0.5).abs() < 1e-6;
+                let got = f64::from(fill.depth_units(column as usize, row as usize));
+                off += usize::from(!tie && got != want.round_ties_even().clamp(1.0, 65535.0));
+            }
+        }
+        off
+    }
+
+    #[test]
+    fn computed_floor_depth_is_the_ray_cast_depth_rounded_in_both_projections() {
+        let scene = cube();
+        let pts = scene.blocks[0].world_vertices();
+        for projection in [
+            crate::camera::Projection::Orthographic,
+            crate::camera::Projection::Perspective { fov_y_deg: 30.0 },
+        ] {
+            let opts = CameraOptions {
+                projection,
+                size_px: [333, 97],
+                ..Default::default()
+            };
+            for view in CornerView::ALL {
+                let cam = Camera::frame(&pts, view, &opts);
+                let fill = floor_fill(&scene, &cam).expect("a corner view is all floor");
+                assert_eq!(fill.gray_level, 60);
+                assert_eq!(floor_depths_off(&fill, &cam), 0, "{view:?} {projection:?}");
+                // A worse input: the fill of a row lower is off almost everywhere.
+                let shifted = FloorFill {
+                    at_first_px: fill.at_first_px + fill.per_row,
+                    ..fill
+                };
+                assert!(
+                    floor_depths_off(&shifted, &cam) > 100,
+                    "{view:?} {projection:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn floor_is_drawn_when_the_horizon_is_in_view_or_a_block_sinks_below_it() {
+        let scene = cube();
+        let pts = scene.blocks[0].world_vertices();
+        let low = CameraOptions {
+            projection: crate::camera::Projection::Perspective { fov_y_deg: 40.0 },
+            elevation_deg: 8.0,
+            ..Default::default()
+        };
+        let cam = Camera::frame(&pts, CornerView::Ne, &low);
+        assert!(
+            floor_fill(&scene, &cam).is_none(),
+            "the horizon is in the picture"
+        );
+        let cam = Camera::frame(&pts, CornerView::Ne, &CameraOptions::default());
+        assert!(floor_fill(&scene, &cam).is_some());
+        let sunk = Scene::new(
+            "s",
+            vec![Block::new("b15", DVec3::new(0.0, 7.49, 0.0), 0.0)],
+        );
+        assert!(
+            floor_fill(&sunk, &cam).is_none(),
+            "the floor must hide what sinks"
+        );
+    }
+
+    #[test]
+    fn computed_floor_depth_rounds_half_to_even_and_clamps_like_the_shader() {
+        let at = |depth_mm: f64| FloorFill {
+            gray_level: 60,
+            at_first_px: depth_mm,
+            per_column: 0.0,
+            per_row: 0.0,
+            reciprocal: false,
+        };
+        // 16.5 and 17.5 steps of 1/16 mm: ties go to the even step.
+        assert_eq!(at(16.5 / 16.0).depth_units(0, 0), 16);
+        assert_eq!(at(17.5 / 16.0).depth_units(0, 0), 18);
+        assert_eq!(at(17.51 / 16.0).depth_units(0, 0), 18);
+        assert_eq!(at(0.001).depth_units(0, 0), 1);
+        assert_eq!(at(5000.0).depth_units(0, 0), 65535);
+        let reciprocal = FloorFill {
+            at_first_px: 1.0 / 100.0,
+            reciprocal: true,
+            ..at(0.0)
+        };
+        assert_eq!(reciprocal.depth_units(3, 4), 1600);
     }
 
     #[test]

@@ -18,12 +18,16 @@
 //! multisampled (`R8Unorm`, resolving averages) and resolved, and a second single-sampled pass
 //! draws the ground truth (`R32Uint`, as in the two-target layout), so depth and ids are never
 //! blended.
+//!
+//! Where the floor fills the picture ([`mesh::floor_fill`]), the pass that writes depth and ids
+//! does not draw it: the target starts from the floor's gray level and id 0, and the readback
+//! writes the floor's exact depth into the pixels no block covers (README "Rendering").
 
 pub mod mesh;
 pub mod photo;
 
 use super::{Backend, RenderError};
-use mesh::{DrawOrder, SeamLines, Vertex};
+use mesh::{DrawOrder, FloorFill, SeamLines, Vertex};
 use std::sync::{Arc, Mutex};
 
 /// The shader source, compiled in so an edited shader triggers a rebuild.
@@ -101,6 +105,9 @@ pub struct FrameRequest<'a> {
     pub vertices: &'a [Vertex],
     /// The frame's shader constants.
     pub uniforms: FrameUniforms,
+    /// The floor computed instead of drawn ([`mesh::floor_fill`]), when it fills the picture:
+    /// the pass that writes depth and ids then skips the floor's triangles.
+    pub floor: Option<FloorFill>,
 }
 
 /// One frame read back, rows top to bottom, tightly packed.
@@ -373,12 +380,19 @@ impl Gpu {
         for (i, ((vertices, order), first)) in ordered.iter().zip(firsts).enumerate() {
             let uniform_offset = (i as u64 * UNIFORM_STRIDE) as u32;
             let runs = draw_runs(vertices, *order, first);
-            self.encode_passes(&mut encoder, targets, layout, vbuf, &runs, uniform_offset);
+            let floor = requests[i].floor.as_ref();
+            let frame = FramePasses {
+                runs: &runs,
+                uniform_offset,
+                floor,
+            };
+            self.encode_passes(&mut encoder, targets, layout, vbuf, &frame);
             encode_readback(&mut encoder, targets, layout, &targets.readbacks[i]);
         }
         self.queue.submit([encoder.finish()]);
         let submitted = started.elapsed();
-        let result = self.read_back(targets, layout, requests.len());
+        let floors: Vec<Option<FloorFill>> = requests.iter().map(|r| r.floor).collect();
+        let result = self.read_back(targets, layout, &floors);
         tracing::debug!(
             frames = requests.len(),
             submit_ms = submitted.as_secs_f64() * 1e3,
@@ -538,17 +552,19 @@ impl Gpu {
         t: &Targets,
         layout: PixelLayout,
         vbuf: &wgpu::Buffer,
-        runs: &[DrawRun],
-        uniform_offset: u32,
+        frame: &FramePasses<'_>,
     ) {
         // The background level: an integer in the integer target, normalized in the
-        // multisampled one.
+        // multisampled one. A single-sampled pass whose floor is computed starts from the
+        // floor's level instead, which every pixel no block covers then keeps; the
+        // multisampled picture still draws the floor (its samples are resolved together).
         let background = f64::from(super::BACKGROUND_LEVEL);
+        let single_sampled_level = frame.floor.map_or(background, |f| f64::from(f.gray_level));
         let clear_gray = wgpu::Color {
             r: if t.msaa_views.is_some() {
                 background / 255.0
             } else {
-                background
+                single_sampled_level
             },
             g: 0.0,
             b: 0.0,
@@ -572,14 +588,23 @@ impl Gpu {
                 store: wgpu::StoreOp::Store,
             },
         };
-        // Depth 0, id 0 and, in the one-word pixel, the background level at bits 8..15.
+        // Depth 0, id 0 and, in the one-word pixel, the background (or floor) level at bits
+        // 8..15.
         let clear_word = wgpu::Color {
-            r: background * 256.0,
+            r: single_sampled_level * 256.0,
             ..wgpu::Color::TRANSPARENT
         };
+        let uniform_offset = frame.uniform_offset;
+        let all_runs = frame.runs;
+        let truth_runs: Vec<DrawRun> = all_runs
+            .iter()
+            .filter(|r| frame.floor.is_none() || !r.floor)
+            .cloned()
+            .collect();
         let mut pass = |pipelines: [PipelineOf<'_>; 2],
                         colors: &[Option<wgpu::RenderPassColorAttachment>],
-                        depth_buffer: &wgpu::TextureView| {
+                        depth_buffer: &wgpu::TextureView,
+                        runs: &[DrawRun]| {
             let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: None,
                 color_attachments: colors,
@@ -608,6 +633,7 @@ impl Gpu {
                 ],
                 &[Some(truth_target(&t.truth_view, clear_word))],
                 &t.depth_buffer_view,
+                &truth_runs,
             ),
             None => pass(
                 [self.pipelines.all.by_variant(); 2],
@@ -616,29 +642,34 @@ impl Gpu {
                     Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT)),
                 ],
                 &t.depth_buffer_view,
+                &truth_runs,
             ),
             Some((color, depth_buffer)) => {
                 pass(
                     [self.pipelines.gray_msaa4.by_variant(); 2],
                     &[Some(gray_target(color, Some(&t.gray_view)))],
                     depth_buffer,
+                    all_runs,
                 );
                 pass(
                     [[&self.pipelines.truth; 3]; 2],
                     &[Some(truth_target(&t.truth_view, wgpu::Color::TRANSPARENT))],
                     &t.depth_buffer_view,
+                    &truth_runs,
                 );
             }
         }
     }
 
-    /// Maps the first `frames` readback buffers, waits once, and unpads their rows.
+    /// Maps the readback buffers of `floors.len()` frames, waits once, and unpads their rows,
+    /// writing each computed floor's depth ([`FloorFill`]).
     fn read_back(
         &self,
         t: &Targets,
         layout: PixelLayout,
-        frames: usize,
+        floors: &[Option<FloorFill>],
     ) -> Result<Vec<Frame>, RenderError> {
+        let frames = floors.len();
         let buffers = &t.readbacks[..frames];
         let (tx, rx) = std::sync::mpsc::channel();
         for buffer in buffers {
@@ -657,18 +688,25 @@ impl Gpu {
                 .map_err(|e| RenderError::Gpu(format!("mapping the readback buffer: {e}")))?;
         }
         let mut out = Vec::with_capacity(frames);
-        for buffer in buffers {
+        for (buffer, floor) in buffers.iter().zip(floors) {
             let frame = {
                 let bytes = buffer
                     .get_mapped_range(..)
                     .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
-                unpad(&bytes, t.size, &t.layout, layout)
+                unpad(&bytes, t.size, &t.layout, layout, floor.as_ref())
             };
             buffer.unmap();
             out.push(frame);
         }
         Ok(out)
     }
+}
+
+/// What one frame's passes draw: its runs, where its uniforms sit, and its computed floor.
+struct FramePasses<'a> {
+    runs: &'a [DrawRun],
+    uniform_offset: u32,
+    floor: Option<&'a FloorFill>,
 }
 
 /// A run of consecutive triangles drawn with one pipeline.
@@ -681,6 +719,8 @@ struct DrawRun {
     /// Whether fragments as near as what is drawn are kept (`LessEqual`): the blocks of a
     /// [`DrawOrder::Descending`] mesh, never the floor.
     as_near: bool,
+    /// Whether the run is the floor's (skipped where the floor is computed, [`FloorFill`]).
+    floor: bool,
 }
 
 /// The runs of a frame whose mesh (`vertices`, in drawing `order`) starts at vertex `first`:
@@ -689,11 +729,16 @@ struct DrawRun {
 fn draw_runs(vertices: &[Vertex], order: DrawOrder, first: u32) -> Vec<DrawRun> {
     let blocks = mesh::block_vertex_count(vertices);
     let parts = [
-        (0, &vertices[..blocks], order == DrawOrder::Descending),
-        (blocks, &vertices[blocks..], false),
+        (
+            0,
+            &vertices[..blocks],
+            order == DrawOrder::Descending,
+            false,
+        ),
+        (blocks, &vertices[blocks..], false, true),
     ];
     let mut runs = Vec::new();
-    for (start, part, as_near) in parts {
+    for (start, part, as_near, floor) in parts {
         let offset = first + start as u32;
         runs.extend(
             mesh::seam_line_runs(part)
@@ -702,6 +747,7 @@ fn draw_runs(vertices: &[Vertex], order: DrawOrder, first: u32) -> Vec<DrawRun> 
                     vertices: r.start + offset..r.end + offset,
                     lines,
                     as_near,
+                    floor,
                 }),
         );
     }
@@ -749,13 +795,20 @@ fn encode_readback(
 
 /// Drops the row padding and splits the packed words into gray, depth (high 16 bits) and ids in
 /// the same pass: tight `w * h` images, rows top to bottom.
-fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout, layout: PixelLayout) -> Frame {
+fn unpad(
+    bytes: &[u8],
+    [w, h]: [u32; 2],
+    l: &ReadbackLayout,
+    layout: PixelLayout,
+    floor: Option<&FloorFill>,
+) -> Frame {
     let (w, h) = (w as usize, h as usize);
     let mut frame = Frame {
         gray: Vec::with_capacity(w * h),
         depth: Vec::with_capacity(w * h),
         ids: Vec::with_capacity(w * h),
     };
+    let mut scratch = FloorScratch::new(if floor.is_some() { w } else { 0 });
     if layout == PixelLayout::GrayAndTruth {
         for r in 0..h {
             let start = r * l.gray_row as usize;
@@ -774,8 +827,52 @@ fn unpad(bytes: &[u8], [w, h]: [u32; 2], l: &ReadbackLayout, layout: PixelLayout
                 &mut frame,
             ),
         }
+        if let Some(floor) = floor {
+            let start = r * w;
+            fill_floor_row(
+                &mut frame.depth[start..],
+                &frame.ids[start..],
+                floor,
+                r,
+                &mut scratch,
+            );
+        }
     }
     frame
+}
+
+/// Writes the computed floor's depth ([`FloorFill`]) into the pixels of raster row `row` that
+/// no block covers (id 0): the floor fills the picture, so those are the floor's. `scratch`
+/// holds the column numbers and the row's floor depths.
+fn fill_floor_row(
+    depth: &mut [u16],
+    ids: &[u16],
+    floor: &FloorFill,
+    row: usize,
+    scratch: &mut FloorScratch,
+) {
+    floor.depth_units_of_row(row, &scratch.columns, &mut scratch.units);
+    for ((d, &id), &f) in depth.iter_mut().zip(ids).zip(&scratch.units) {
+        // All ones where no block is (id 0): a select without a branch, so the loop vectorizes.
+        let floor_mask = u16::from(id == 0).wrapping_neg();
+        *d = (f & floor_mask) | (*d & !floor_mask);
+    }
+}
+
+/// Per-picture buffers of [`fill_floor_row`]: the column numbers 0, 1, .. as f64 and one row of
+/// floor depths.
+struct FloorScratch {
+    columns: Vec<f64>,
+    units: Vec<u16>,
+}
+
+impl FloorScratch {
+    fn new(width: usize) -> FloorScratch {
+        FloorScratch {
+            columns: (0..width).map(|c| c as f64).collect(),
+            units: vec![0; width],
+        }
+    }
 }
 
 /// One row of packed words split onto the ends of the frame's pictures, each picture in its own
@@ -986,7 +1083,7 @@ mod tests {
         // The second row starts after the padding (256 bytes), not after three words.
         bytes[t + 256..t + 260].copy_from_slice(&word(1, 2));
         bytes[t + 12..t + 16].copy_from_slice(&word(9, 9));
-        let f = unpad(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth);
+        let f = unpad(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth, None);
         assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
         assert_eq!(f.depth, vec![7, 0, 65535, 1, 0, 0]);
         assert_eq!(f.ids, vec![0, 0, 65535, 2, 0, 0]);
@@ -1005,7 +1102,7 @@ mod tests {
         bytes[t + 4..t + 8].copy_from_slice(&word(65535, 255, 255));
         bytes[t + 256..t + 260].copy_from_slice(&word(300, 35, 7));
         bytes[t + 260..t + 264].copy_from_slice(&word(1, 210, 1));
-        let f = unpad(&bytes, [2, 2], &l, PixelLayout::Word);
+        let f = unpad(&bytes, [2, 2], &l, PixelLayout::Word, None);
         assert_eq!(f.gray, vec![20, 255, 35, 210]);
         assert_eq!(f.depth, vec![0, 65535, 300, 1]);
         assert_eq!(f.ids, vec![0, 255, 7, 1]);

@@ -165,6 +165,7 @@ impl Renderer {
         let request = super::gpu::FrameRequest {
             vertices: &vertices,
             uniforms: frame_uniforms(camera),
+            floor: super::gpu::mesh::floor_fill(scene, camera),
         };
         let frame = self
             .gpu
