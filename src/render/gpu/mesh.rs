@@ -166,36 +166,31 @@ impl FloorFill {
     /// The floor's depth at raster pixel (`column`, `row`) (row 0 at the top) in depth-picture
     /// steps of 1/16 mm, rounded half to even and clamped to 1..=65535 as the shader does.
     pub fn depth_units(&self, column: usize, row: usize) -> u16 {
-        let mut one = [0u16];
-        self.depth_units_of_row(row, &[column as f64], &mut one);
-        one[0]
+        self.depth_units_in_row(self.row_start(row), column as f64)
     }
 
-    /// [`FloorFill::depth_units`] of the pixels of raster row `row` at `columns` (as f64),
-    /// into `out`: one loop the compiler vectorizes (no rounding call, no branch per pixel).
-    pub fn depth_units_of_row(&self, row: usize, columns: &[f64], out: &mut [u16]) {
-        let base = self.at_first_px + self.per_row * row as f64;
-        let step = self.per_column;
-        let units = crate::camera::DEPTH_UNITS_PER_MM;
+    /// The affine quantity (depth, or its reciprocal) at column 0 of raster row `row`.
+    #[inline(always)]
+    pub fn row_start(&self, row: usize) -> f64 {
+        self.at_first_px + self.per_row * row as f64
+    }
+
+    /// [`FloorFill::depth_units`] at `column` (as f64) of the row whose
+    /// [`FloorFill::row_start`] is `row_start`: the per-pixel step of the readback's loop,
+    /// written so that loop vectorizes (no rounding call, no float-to-integer conversion).
+    #[inline(always)]
+    pub fn depth_units_in_row(&self, row_start: f64, column: f64) -> u16 {
+        let v = row_start + self.per_column * column;
+        let depth_mm = if self.reciprocal { 1.0 / v } else { v };
         // Adding 2^52 to a number in 0..2^51 rounds it to an integer, half to even (IEEE round
         // to nearest: the shader's `round`), and leaves that integer in the low bits of the
-        // sum's mantissa: no rounding call and no float-to-integer conversion per pixel.
+        // sum's mantissa. `max` then `min` (not `clamp`) compile to packed max and min.
         const ROUND: f64 = 4_503_599_627_370_496.0;
-        // `max` then `min` (not `clamp`) compile to the packed max and min instructions.
         #[allow(clippy::manual_clamp)]
-        let quantize = |depth_mm: f64| {
-            let x = (depth_mm * units).max(1.0).min(65535.0);
-            (x + ROUND).to_bits() as u16
-        };
-        if self.reciprocal {
-            for (o, &c) in out.iter_mut().zip(columns) {
-                *o = quantize(1.0 / (base + step * c));
-            }
-        } else {
-            for (o, &c) in out.iter_mut().zip(columns) {
-                *o = quantize(base + step * c);
-            }
-        }
+        let x = (depth_mm * crate::camera::DEPTH_UNITS_PER_MM)
+            .max(1.0)
+            .min(65535.0);
+        (x + ROUND).to_bits() as u16
     }
 }
 
