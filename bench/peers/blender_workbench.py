@@ -6,7 +6,7 @@ y-up becomes Blender's z-up) on a floor, seen in the four 45-degree corner views
 of 35.264 degrees (the isometric direction) by an orthographic camera framing the stack,
 512 x 480 px, Workbench engine, flat gray studio lighting, anti-aliasing OFF. Each view is
 rendered and written as an 8-bit gray PNG (Blender's render + its own readback and file write,
-as blockworld's figure includes its readback), timed per view after untimed warm-up renders.
+as blockworld's figure includes its readback), timed per view after untimed warm-up renders (at least --warmup of them and --warmup-seconds of them).
 
 Run with a Python that has Blender as a module (`pip install bpy==4.2.23`):
 
@@ -93,25 +93,32 @@ def main():
     ap.add_argument("--blocks", type=int, default=10)
     ap.add_argument("--views", type=int, default=40, help="timed views (cycling NE, NW, SW, SE)")
     ap.add_argument("--warmup", type=int, default=4)
+    ap.add_argument("--warmup-seconds", type=float, default=0.0,
+                    help="keep warming up until this many seconds have passed (at least --warmup renders)")
     ap.add_argument("--out", required=True, help="folder for the PNGs (created)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else None)
     os.makedirs(args.out, exist_ok=True)
     scene, cam, centre, diagonal = build_scene(args.blocks)
     times = []
-    for k in range(args.warmup + args.views):
+    warmup_started = time.perf_counter()
+    k = 0
+    while len(times) < args.views:
         name, azimuth = VIEWS[k % 4]
         aim(cam, centre, 2 * diagonal, azimuth)
         scene.render.filepath = os.path.join(args.out, f"view_{name}.png")
+        warming = k < args.warmup or time.perf_counter() - warmup_started < args.warmup_seconds
         t = time.perf_counter()
         bpy.ops.render.render(write_still=True)
-        if k >= args.warmup:
+        if not warming:
             times.append(1e3 * (time.perf_counter() - t))
+        k += 1
     res = {
         "blender": bpy.app.version_string,
         "blocks": args.blocks,
         "size": [W, H],
         "aa": scene.display.render_aa,
         "views": len(times),
+        "warmup_renders": k - len(times),
         "ms_per_view_median": round(statistics.median(times), 3),
         "ms_per_view_mean": round(statistics.fmean(times), 3),
         "ms_per_view_min": round(min(times), 3),

@@ -63,6 +63,12 @@ pub struct Args {
     /// Timed views per render run (blockworld's and Blender's).
     #[arg(long, default_value_t = 40)]
     pub render_views: usize,
+    /// Seconds of untimed renders before each side's timed renders (blockworld's and
+    /// Blender's alike, at least their fixed warm-up counts): a view that takes a millisecond
+    /// waits on its renderer's threads waking, and on this VM that settles only after seconds
+    /// of continuous rendering (README "Peer ratios").
+    #[arg(long, default_value_t = 2.0)]
+    pub render_warmup_s: f64,
     /// blockworld's view options (defaults: the four corner views, 512 x 480, orthographic).
     #[command(flatten)]
     pub view: ViewArgs,
@@ -120,7 +126,7 @@ fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Resul
             ]),
         )?;
         r.peer_scenes_per_s.push(number(&k, "scenes_per_s")?);
-        let (one, four) = blockworld_render(renderer, args.render_views)?;
+        let (one, four) = blockworld_render(renderer, args.render_views, args.render_warmup_s)?;
         r.bw_ms_per_view.push(one);
         r.bw_ms_per_view_four.push(four);
         let out = scratch.join("blender-out").display().to_string();
@@ -132,6 +138,8 @@ fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Resul
                 &blocks,
                 "--views",
                 &args.render_views.to_string(),
+                "--warmup-seconds",
+                &args.render_warmup_s.to_string(),
                 "--out",
                 &out,
             ]),
@@ -165,12 +173,20 @@ fn blockworld_generate(args: &Args, dir: &Path) -> anyhow::Result<f64> {
 }
 
 /// Median ms per view of `views` renders (render + readback) of the 10-block stack of `bench
-/// render`: one view per submission, and the four corner views per submission.
-fn blockworld_render(renderer: &Renderer, views: usize) -> anyhow::Result<(f64, f64)> {
+/// render`: one view per submission, and the four corner views per submission; after at least
+/// 8 untimed renders and `warmup_s` seconds of them.
+fn blockworld_render(
+    renderer: &Renderer,
+    views: usize,
+    warmup_s: f64,
+) -> anyhow::Result<(f64, f64)> {
     let scene = super::render::bench_scene(RENDER_BLOCKS);
     let opts = RenderOptions::default();
-    for k in 0..8 {
+    let warmup = Instant::now();
+    let mut k = 0;
+    while k < 8 || warmup.elapsed().as_secs_f64() < warmup_s {
         renderer.render_pixels(&scene, CornerView::ALL[k % 4], &opts)?;
+        k += 1;
     }
     let mut one = Vec::with_capacity(views);
     for k in 0..views.max(1) {
@@ -388,11 +404,37 @@ fn print_table(args: &Args, r: &Rounds) -> anyhow::Result<()> {
         show(&r.blender_ms_per_view)
     )?;
     outln!(
+        "render rows: each side timed {} views after at least {:.1} s of untimed renders (`--render-warmup-s`)",
+        args.render_views, args.render_warmup_s
+    )?;
+    let one = round_ratios(&r.blender_ms_per_view, &r.bw_ms_per_view);
+    let four = round_ratios(&r.blender_ms_per_view, &r.bw_ms_per_view_four);
+    outln!(
+        "render ratio of each round (both sides measured back to back, so a slower phase of the machine slows both): one view per submission {} (median {:.1}x); four views per submission {} (median {:.1}x)",
+        show_ratios(&one),
+        median(&mut one.clone()),
+        show_ratios(&four),
+        median(&mut four.clone())
+    )?;
+    outln!(
         "rounds: blockworld vision ms/view {}; OpenCV {}",
         show(&r.bw_vision_ms),
         show(&r.opencv_ms)
     )?;
     outln!("settle against PyBullet: `blockworld bench settle --pybullet PYTHON` (the peer stack in both, same run)")
+}
+
+/// `peer[i] / ours[i]` for each round.
+fn round_ratios(peer: &[f64], ours: &[f64]) -> Vec<f64> {
+    peer.iter().zip(ours).map(|(p, o)| p / o).collect()
+}
+
+fn show_ratios(ratios: &[f64]) -> String {
+    ratios
+        .iter()
+        .map(|x| format!("{x:.1}x"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]
@@ -449,6 +491,15 @@ mod tests {
             e.contains("No module named 'bpy'") && e.contains("pip install"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn render_ratios_pair_the_sides_of_each_round() {
+        let r = round_ratios(&[40.0, 50.0, 44.0], &[1.0, 2.0, 1.1]);
+        assert_eq!(r.len(), 3);
+        assert!((r[0] - 40.0).abs() < 1e-12 && (r[1] - 25.0).abs() < 1e-12);
+        assert!((r[2] - 40.0).abs() < 1e-9);
+        assert_eq!(show_ratios(&r), "40.0x, 25.0x, 40.0x");
     }
 
     #[test]
