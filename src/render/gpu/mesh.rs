@@ -142,7 +142,8 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
     }
 }
 
-/// The floor of a picture it fills, computed instead of rasterized (README "Peer ratios"):
+/// The floor of a picture it fills, computed instead of rasterized (README "Rendering", "The
+/// floor, computed"):
 /// when the floor square of [`scene_vertices`] covers the whole picture between the near and
 /// far planes (the usual corner view), the floor's pixels are exactly those no block covers,
 /// all of one gray level, and their depth along the optical axis is a plane's, affine across
@@ -537,7 +538,7 @@ mod tests {
         Scene::new("c", vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)])
     }
 
-    /// The exact depth, in 1/16 mm rounded half to even, of the floor point seen through the
+    /// The exact depth, in (unrounded) steps of 1/16 mm, of the floor point seen through the
     /// centre of raster pixel (`column`, `row`): a ray cast independent of [`FloorFill`].
     fn ray_cast_floor_units(camera: &Camera, column: u32, row: u32) -> f64 {
         let h = f64::from(camera.size_px[1]);

@@ -693,7 +693,13 @@ impl Gpu {
                 let bytes = buffer
                     .get_mapped_range(..)
                     .map_err(|e| RenderError::Gpu(format!("reading the readback buffer: {e}")))?;
-                unpad(&bytes, t.size, &t.layout, layout, floor.as_ref())
+                unpad(PackedFrame {
+                    bytes: &bytes,
+                    size: t.size,
+                    rows: &t.layout,
+                    pixels: layout,
+                    floor: floor.as_ref(),
+                })
             };
             buffer.unmap();
             out.push(frame);
@@ -793,48 +799,52 @@ fn encode_readback(
     }
 }
 
+/// One frame's bytes as read back, and what is needed to unpack them ([`unpad`]).
+#[derive(Clone, Copy)]
+struct PackedFrame<'a> {
+    /// The mapped readback buffer.
+    bytes: &'a [u8],
+    /// Picture width and height, px.
+    size: [u32; 2],
+    /// Where the targets' rows sit in `bytes`.
+    rows: &'a ReadbackLayout,
+    /// How the pixels are packed.
+    pixels: PixelLayout,
+    /// The computed floor, if any ([`FloorFill`]).
+    floor: Option<&'a FloorFill>,
+}
+
 /// Drops the row padding and splits the packed words into gray, depth (high 16 bits) and ids in
 /// the same pass: tight `w * h` images, rows top to bottom; a computed floor's depth
 /// ([`FloorFill`]) goes into every pixel no block covers. The loops are compiled twice, for
 /// baseline x86-64 and for AVX2 (chosen at run time when the CPU has it): the same results,
 /// twice the lanes.
-fn unpad(
-    bytes: &[u8],
-    size: [u32; 2],
-    l: &ReadbackLayout,
-    layout: PixelLayout,
-    floor: Option<&FloorFill>,
-) -> Frame {
+fn unpad(packed: PackedFrame<'_>) -> Frame {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { unpad_avx2(bytes, size, l, layout, floor) };
+        return unsafe { unpad_avx2(packed) };
     }
-    unpad_rows(bytes, size, l, layout, floor)
+    unpad_rows(packed)
 }
 
 /// [`unpad_rows`] compiled with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn unpad_avx2(
-    bytes: &[u8],
-    size: [u32; 2],
-    l: &ReadbackLayout,
-    layout: PixelLayout,
-    floor: Option<&FloorFill>,
-) -> Frame {
-    unpad_rows(bytes, size, l, layout, floor)
+unsafe fn unpad_avx2(packed: PackedFrame<'_>) -> Frame {
+    unpad_rows(packed)
 }
 
 /// The body of [`unpad`], inlined into each compiled variant.
 #[inline(always)]
-fn unpad_rows(
-    bytes: &[u8],
-    [w, h]: [u32; 2],
-    l: &ReadbackLayout,
-    layout: PixelLayout,
-    floor: Option<&FloorFill>,
-) -> Frame {
+fn unpad_rows(packed: PackedFrame<'_>) -> Frame {
+    let PackedFrame {
+        bytes,
+        size: [w, h],
+        rows: l,
+        pixels: layout,
+        floor,
+    } = packed;
     let (w, h) = (w as usize, h as usize);
     let mut frame = Frame {
         gray: Vec::with_capacity(w * h),
@@ -1087,6 +1097,22 @@ mod tests {
         assert_eq!(frames_per_submission(u64::MAX), 1);
     }
 
+    fn packed<'a>(
+        bytes: &'a [u8],
+        size: [u32; 2],
+        rows: &'a ReadbackLayout,
+        pixels: PixelLayout,
+        floor: Option<&'a FloorFill>,
+    ) -> PackedFrame<'a> {
+        PackedFrame {
+            bytes,
+            size,
+            rows,
+            pixels,
+            floor,
+        }
+    }
+
     #[test]
     fn unpad_drops_padding_and_splits_depth_from_ids() {
         let l = ReadbackLayout::new([3, 2]);
@@ -1100,7 +1126,7 @@ mod tests {
         // The second row starts after the padding (256 bytes), not after three words.
         bytes[t + 256..t + 260].copy_from_slice(&word(1, 2));
         bytes[t + 12..t + 16].copy_from_slice(&word(9, 9));
-        let f = unpad(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth, None);
+        let f = unpad(packed(&bytes, [3, 2], &l, PixelLayout::GrayAndTruth, None));
         assert_eq!(f.gray, vec![1, 2, 3, 4, 5, 6]);
         assert_eq!(f.depth, vec![7, 0, 65535, 1, 0, 0]);
         assert_eq!(f.ids, vec![0, 0, 65535, 2, 0, 0]);
@@ -1119,7 +1145,7 @@ mod tests {
         bytes[t + 4..t + 8].copy_from_slice(&word(65535, 255, 255));
         bytes[t + 256..t + 260].copy_from_slice(&word(300, 35, 7));
         bytes[t + 260..t + 264].copy_from_slice(&word(1, 210, 1));
-        let f = unpad(&bytes, [2, 2], &l, PixelLayout::Word, None);
+        let f = unpad(packed(&bytes, [2, 2], &l, PixelLayout::Word, None));
         assert_eq!(f.gray, vec![20, 255, 35, 210]);
         assert_eq!(f.depth, vec![0, 65535, 300, 1]);
         assert_eq!(f.ids, vec![0, 255, 7, 1]);
@@ -1146,7 +1172,7 @@ mod tests {
                 bytes[at..at + 4].copy_from_slice(&word.to_ne_bytes());
             }
         }
-        let f = unpad(&bytes, [37, 5], &l, PixelLayout::Word, Some(&fill));
+        let f = unpad(packed(&bytes, [37, 5], &l, PixelLayout::Word, Some(&fill)));
         for r in 0..5 {
             for c in 0..37 {
                 let i = r * 37 + c;
@@ -1159,10 +1185,10 @@ mod tests {
             }
         }
         // The baseline loops (what a CPU without AVX2 runs) give the same frame.
-        let baseline = unpad_rows(&bytes, [37, 5], &l, PixelLayout::Word, Some(&fill));
+        let baseline = unpad_rows(packed(&bytes, [37, 5], &l, PixelLayout::Word, Some(&fill)));
         assert_eq!(baseline, f);
         // A worse input: without the floor, the bare pixels keep depth 0.
-        let bare = unpad(&bytes, [37, 5], &l, PixelLayout::Word, None);
+        let bare = unpad(packed(&bytes, [37, 5], &l, PixelLayout::Word, None));
         assert_ne!(bare, f);
         assert_eq!(bare.depth[1], 0);
     }
