@@ -64,9 +64,10 @@ pub struct Args {
     #[arg(long, default_value_t = 40)]
     pub render_views: usize,
     /// Seconds of untimed renders before each side's timed renders (blockworld's and
-    /// Blender's alike, at least their fixed warm-up counts): a view that takes a millisecond
-    /// waits on its renderer's threads waking, and on this VM that settles only after seconds
-    /// of continuous rendering (README "Peer ratios").
+    /// Blender's alike, at least their fixed warm-up counts), so both are timed in their
+    /// steady state: one process rendering the 10-block view without pause read 1.01, 0.91
+    /// and 0.86 ms per view in its first three seconds and 0.83-0.87 after (README "Peer
+    /// ratios").
     #[arg(long, default_value_t = 2.0)]
     pub render_warmup_s: f64,
     /// blockworld's view options (defaults: the four corner views, 512 x 480, orthographic).
