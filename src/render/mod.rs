@@ -202,6 +202,7 @@ pub const SEAM_LEVEL: u8 = 35;
 /// pixel centres (common with symmetric framing) marks both of them instead of neither.
 pub const SEAM_HALF_WIDTH_PX: f64 = 0.55;
 
+pub use gpu::adapter_summary;
 pub use gpu::mesh::{
     face_gray_level, floor_fill, FloorFill, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO,
     LIGHT_IN_CAMERA_FRAME,

@@ -226,26 +226,49 @@ pub struct Gpu {
     state: Mutex<State>,
 }
 
+/// The adapter `backend` offers (lavapipe on this project's machines), and the backend's name
+/// for errors: what [`Gpu::new`] builds its device on.
+fn request_adapter(backend: Backend) -> Result<(wgpu::Adapter, &'static str), RenderError> {
+    let (backends, name) = match backend {
+        Backend::Vulkan => (wgpu::Backends::VULKAN, "Vulkan"),
+        Backend::Gl => (wgpu::Backends::GL, "GL"),
+    };
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = backends;
+    desc.flags = wgpu::InstanceFlags::empty();
+    let instance = wgpu::Instance::new(desc);
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        ..Default::default()
+    }))
+    .map_err(|e| RenderError::NoAdapter {
+        backend: name,
+        detail: e.to_string(),
+    })?;
+    Ok((adapter, name))
+}
+
+/// "name (backend, device type, driver)" of an adapter.
+fn describe(info: &wgpu::AdapterInfo) -> String {
+    format!(
+        "{} ({:?}, {:?}, driver {} {})",
+        info.name, info.backend, info.device_type, info.driver, info.driver_info
+    )
+}
+
+/// [`Gpu::adapter_info`] of the adapter `backend` offers, without creating a device (tens of
+/// milliseconds instead of a device and its pipelines): for benchmark tables of stages that
+/// do not render, which still name the rasterizer of the machine they ran on (README
+/// "Benchmarks").
+pub fn adapter_summary(backend: Backend) -> Result<String, RenderError> {
+    request_adapter(backend).map(|(adapter, _)| describe(&adapter.get_info()))
+}
+
 impl Gpu {
     /// Creates instance, adapter, device and pipelines on `backend`.
     pub fn new(backend: Backend) -> Result<Gpu, RenderError> {
-        let (backends, name) = match backend {
-            Backend::Vulkan => (wgpu::Backends::VULKAN, "Vulkan"),
-            Backend::Gl => (wgpu::Backends::GL, "GL"),
-        };
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-        desc.backends = backends;
-        desc.flags = wgpu::InstanceFlags::empty();
-        let instance = wgpu::Instance::new(desc);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            ..Default::default()
-        }))
-        .map_err(|e| RenderError::NoAdapter {
-            backend: name,
-            detail: e.to_string(),
-        })?;
+        let (adapter, name) = request_adapter(backend)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -286,14 +309,7 @@ impl Gpu {
 
     /// "name (backend, device type, driver)", for logs and benchmark tables.
     pub fn adapter_info(&self) -> String {
-        format!(
-            "{} ({:?}, {:?}, driver {} {})",
-            self.info.name,
-            self.info.backend,
-            self.info.device_type,
-            self.info.driver,
-            self.info.driver_info
-        )
+        describe(&self.info)
     }
 
     /// Largest picture side the device accepts, px.

@@ -102,7 +102,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         !args.looks.is_empty(),
         "--looks: name at least one look (lineart, photo)"
     );
-    outln!("{}", super::machine::banner(None).trim_end())?;
+    outln!("{}", super::machine::machine_line().trim_end())?;
     let mut runs = Vec::new();
     let mut header = None;
     for look in &args.looks {

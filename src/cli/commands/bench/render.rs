@@ -47,16 +47,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let start = Instant::now();
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     let setup = start.elapsed();
-    outln!("adapter: {}", renderer.adapter_info())?;
-    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
-        outln!(
-            "load average (1, 5, 15 min) at start: {}",
-            load.split_whitespace()
-                .take(3)
-                .collect::<Vec<_>>()
-                .join(" ")
-        )?;
-    }
+    outln!("{}", super::machine::banner(Some(&renderer)).trim_end())?;
     outln!(
         "device setup (instance + adapter + device + pipelines): {:.1} ms",
         ms(setup)

@@ -126,6 +126,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
         }
     }
+    outln!("{}", super::machine::banner(None).trim_end())?;
     outln!(
         "vision front end vs ground truth: {} views, {}, noise sigma {}, match within {} px, one core",
         all.views,
