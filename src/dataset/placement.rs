@@ -33,18 +33,16 @@ pub fn spread_scene_folders(dir: &Path) -> bool {
         if !folder.metadata().is_ok_and(|m| m.is_dir()) {
             return false;
         }
-        let fd = folder.as_raw_fd();
-        let mut flags: libc::c_int = 0;
-        // SAFETY: FS_IOC_GETFLAGS writes one int (the kernel's `put_user(flags, (int *)arg)`)
-        // through a pointer to a live local; `fd` is open for the call's whole duration.
-        if unsafe { libc::ioctl(fd, libc::FS_IOC_GETFLAGS, &mut flags as *mut libc::c_int) } != 0 {
+        let Some(mut flags) = inode_flags(&folder) else {
             return false;
-        }
+        };
         if flags & TOPDIR_FLAG != 0 {
             return true;
         }
         flags |= TOPDIR_FLAG;
-        // SAFETY: FS_IOC_SETFLAGS reads one int through a pointer to a live local; `fd` is open.
+        // SAFETY: FS_IOC_SETFLAGS reads one int through a pointer to a live local; the file is
+        // open for the call's whole duration.
+        let fd = folder.as_raw_fd();
         unsafe { libc::ioctl(fd, libc::FS_IOC_SETFLAGS, &flags as *const libc::c_int) == 0 }
     }
     #[cfg(not(target_os = "linux"))]
@@ -54,23 +52,31 @@ pub fn spread_scene_folders(dir: &Path) -> bool {
     }
 }
 
-/// Whether `dir` carries ext4's top-of-hierarchies flag (what `lsattr -d` shows as `T`).
-#[cfg(all(test, target_os = "linux"))]
-fn has_topdir_flag(dir: &Path) -> bool {
+/// The inode flags of an open file (what `lsattr` shows), `None` where the file system has
+/// none to give.
+#[cfg(target_os = "linux")]
+fn inode_flags(file: &std::fs::File) -> Option<libc::c_int> {
     use std::os::fd::AsRawFd;
-    let Ok(folder) = std::fs::File::open(dir) else {
-        return false;
-    };
     let mut flags: libc::c_int = 0;
-    // SAFETY: as in `spread_scene_folders`.
+    // SAFETY: FS_IOC_GETFLAGS writes one int (the kernel's `put_user(flags, (int *)arg)`)
+    // through a pointer to a live local; the file is open for the call's whole duration.
     let ok = unsafe {
         libc::ioctl(
-            folder.as_raw_fd(),
+            file.as_raw_fd(),
             libc::FS_IOC_GETFLAGS,
             &mut flags as *mut libc::c_int,
         )
     } == 0;
-    ok && flags & TOPDIR_FLAG != 0
+    ok.then_some(flags)
+}
+
+/// Whether `dir` carries ext4's top-of-hierarchies flag (what `lsattr -d` shows as `T`).
+#[cfg(all(test, target_os = "linux"))]
+fn has_topdir_flag(dir: &Path) -> bool {
+    std::fs::File::open(dir)
+        .ok()
+        .and_then(|folder| inode_flags(&folder))
+        .is_some_and(|flags| flags & TOPDIR_FLAG != 0)
 }
 
 #[cfg(all(test, target_os = "linux"))]

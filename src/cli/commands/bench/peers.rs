@@ -160,8 +160,8 @@ fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Resul
         let opencv = args.peers_dir.join("opencv_bench.py");
         let dir = scratch.join("views").display().to_string();
         let repeat = VISION_REPEAT.to_string();
-        let args = ["--views-dir", &dir, "--threads", "1", "--repeat", &repeat];
-        let o = peer(&opencv, &strings(&args))?;
+        let opencv_args = ["--views-dir", &dir, "--threads", "1", "--repeat", &repeat];
+        let o = peer(&opencv, &strings(&opencv_args))?;
         r.opencv_ms.push(number(&o, "ms_per_view_total_mean")?);
     }
     Ok(r)

@@ -212,12 +212,10 @@ pub(super) fn fastest_steps(
     opts: &VisionOptions,
     repeat: usize,
 ) -> (Detection, [f64; 3]) {
-    let mut best = [f64::INFINITY; 3];
     let mut det = detect_with_directions(gray, dirs, opts);
-    for k in 0..repeat.max(1) {
-        if k > 0 {
-            det = detect_with_directions(gray, dirs, opts);
-        }
+    let mut best = det.timings.steps_ms();
+    for _ in 1..repeat {
+        det = detect_with_directions(gray, dirs, opts);
         for (b, m) in best.iter_mut().zip(det.timings.steps_ms()) {
             *b = b.min(m);
         }
