@@ -469,15 +469,13 @@ fn photo_pipeline(
     })
 }
 
-/// The shadow pass, the radiance pass (the mesh's triangles without the shadow test first,
-/// the whole faces `behind` their shadowed parts with [`BEHIND_BIAS`], then the shadowed
-/// triangles with the test, so that nearly every shadowed fragment hidden by a nearer surface
-/// fails the depth test before it is shaded) and the copy of the radiance into the readback
-/// buffer.
+/// The shadow pass (the mesh's casters), the radiance pass (the mesh's triangles without the
+/// shadow test first, the whole faces `behind` their shadowed parts with [`BEHIND_BIAS`], then
+/// the shadowed triangles with the test, so that nearly every shadowed fragment hidden by a
+/// nearer surface fails the depth test before it is shaded) and the copy of the radiance into
+/// the readback buffer.
 fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mesh: &PhotoMesh) {
-    let vertex_count = mesh.vertices.len() as u32;
-    let shadowed = mesh.shadowed_vertices as u32;
-    let behind = vertex_count - mesh.behind_vertices as u32;
+    let range = |r: &std::ops::Range<usize>| r.start as u32..r.end as u32;
     let t = pass.targets.as_ref().expect("created before encoding");
     let vbuf = pass.vertices.as_ref().expect("created before encoding");
     let depth = |view| {
@@ -500,7 +498,7 @@ fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mes
         rp.set_pipeline(&pass.shadow);
         rp.set_bind_group(0, &pass.shadow_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
-        rp.draw(0..vertex_count, 0..1);
+        rp.draw(range(&mesh.casters), 0..1);
     }
     {
         let colors = [Some(wgpu::RenderPassColorAttachment {
@@ -521,11 +519,11 @@ fn encode_photo_passes(encoder: &mut wgpu::CommandEncoder, pass: &PhotoPass, mes
         rp.set_bind_group(0, &pass.photo_bind_group, &[]);
         rp.set_vertex_buffer(0, vbuf.slice(..));
         rp.set_pipeline(&pass.unshadowed);
-        rp.draw(shadowed..behind, 0..1);
+        rp.draw(range(&mesh.unshadowed), 0..1);
         rp.set_pipeline(&pass.unshadowed_behind);
-        rp.draw(behind..vertex_count, 0..1);
+        rp.draw(range(&mesh.behind), 0..1);
         rp.set_pipeline(&pass.radiance);
-        rp.draw(0..shadowed, 0..1);
+        rp.draw(range(&mesh.shadowed), 0..1);
     }
     encoder.copy_texture_to_buffer(
         t.radiance.as_image_copy(),

@@ -130,14 +130,113 @@ pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<Ph
 /// from every block's shadow ([`photo_mesh`]). A face only part of which a shadow can reach
 /// is drawn twice: that part with the shadow test, and the whole face without it, last and
 /// a hair behind (the renderer's depth bias), so it shows only where the part does not.
+///
+/// Each pass gets only the triangles it does not cull: the radiance pass those turned towards
+/// the eye, the shadow pass (which culls the faces turned towards the light) those turned away
+/// from the light. A triangle neither pass draws is left out, so the GPU never transforms it;
+/// the pictures are the same (README "Photographic look").
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhotoMesh {
-    /// Triangles: the shadowed ones, the rest, then the whole faces drawn behind their parts.
+    /// Triangles, in the order of their ranges: `shadowed`, `behind`, then `unshadowed`, whose
+    /// end overlaps `casters` (faces turned to the eye and away from the light), then the rest
+    /// of `casters`.
     pub vertices: Vec<PhotoVertex>,
-    /// How many of `vertices`, from the start, need the shadow test.
-    pub shadowed_vertices: usize,
-    /// How many of `vertices`, at the end, are whole faces drawn behind their shadowed part.
-    pub behind_vertices: usize,
+    /// The triangles that need the shadow test, drawn last in the radiance pass.
+    pub shadowed: std::ops::Range<usize>,
+    /// Whole faces drawn behind their shadowed part, after `unshadowed`.
+    pub behind: std::ops::Range<usize>,
+    /// The triangles the radiance pass shades without the shadow test, drawn first.
+    pub unshadowed: std::ops::Range<usize>,
+    /// The triangles of the shadow map: every face turned away from the light.
+    pub casters: std::ops::Range<usize>,
+}
+
+/// Where [`photo_mesh`] puts a polygon of the render mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Part {
+    /// Drawn with the shadow test.
+    Shadowed,
+    /// A whole face drawn behind its shadowed part.
+    Behind,
+    /// Drawn without the shadow test.
+    Rest,
+}
+
+/// The polygons of [`photo_mesh`] sorted by the passes that draw them ([`PhotoMesh`]).
+struct MeshParts {
+    to_eye: Option<DVec3>,
+    eye: DVec3,
+    towards_light: DVec3,
+    shadowed: Vec<PhotoVertex>,
+    behind: Vec<PhotoVertex>,
+    lit: Vec<PhotoVertex>,
+    unlit: Vec<PhotoVertex>,
+    casters: Vec<PhotoVertex>,
+}
+
+/// How far past edge-on (cosine of the angle between a face's normal and the direction to the
+/// eye or the light) a face must turn away before the passes' culling is left to the CPU: a
+/// face closer to edge-on goes to the GPU, whose own test decides. Far below any face's
+/// rounding, far above the sliver a face seen edge-on covers (no pixel).
+const CULL_MARGIN_COS: f64 = 1e-9;
+
+impl MeshParts {
+    fn new(camera: &Camera, towards_light: DVec3) -> MeshParts {
+        MeshParts {
+            to_eye: camera.is_orthographic().then(|| camera.towards_eye()),
+            eye: camera.eye(),
+            towards_light,
+            shadowed: Vec::new(),
+            behind: Vec::new(),
+            lit: Vec::new(),
+            unlit: Vec::new(),
+            casters: Vec::new(),
+        }
+    }
+
+    /// Adds the polygon `corners` (outward normal `outward`) to `part`, in every range whose
+    /// pass does not cull it.
+    fn push(&mut self, part: Part, corners: &[DVec3], outward: DVec3, albedo: f64) {
+        let Some(&first) = corners.first() else {
+            return;
+        };
+        let n = outward.normalize_or_zero();
+        let to_eye = self
+            .to_eye
+            .unwrap_or_else(|| (self.eye - first).normalize_or_zero());
+        let seen = n.dot(to_eye) >= -CULL_MARGIN_COS;
+        let casts = n.dot(self.towards_light) <= CULL_MARGIN_COS;
+        let out = match (part, seen, casts) {
+            (Part::Shadowed, true, _) => &mut self.shadowed,
+            (Part::Behind, true, _) => &mut self.behind,
+            (Part::Rest, true, false) => &mut self.lit,
+            (Part::Rest, true, true) => &mut self.unlit,
+            (_, false, true) => &mut self.casters,
+            (_, false, false) => return,
+        };
+        push_polygon(out, corners, outward, albedo);
+    }
+
+    /// The vertices in [`PhotoMesh`]'s order, with its ranges (shadowed and behind faces all
+    /// face the light, so the shadow pass culls them anyway).
+    fn finish(self) -> PhotoMesh {
+        let shadowed = 0..self.shadowed.len();
+        let behind = shadowed.end..shadowed.end + self.behind.len();
+        let lit_end = behind.end + self.lit.len();
+        let unlit_end = lit_end + self.unlit.len();
+        let mut vertices = self.shadowed;
+        vertices.extend(self.behind);
+        vertices.extend(self.lit);
+        vertices.extend(self.unlit);
+        vertices.extend(self.casters);
+        PhotoMesh {
+            shadowed,
+            unshadowed: behind.end..unlit_end,
+            behind,
+            casters: lit_end..vertices.len(),
+            vertices,
+        }
+    }
 }
 
 /// Drop of the floor drawn without the shadow test below the floor drawn with it, mm: the two
@@ -169,7 +268,7 @@ pub fn photo_mesh(
         .iter()
         .map(|w| crate::geom::bounds3(w.iter().copied()).unwrap_or_default())
         .collect();
-    let (mut shadowed, mut rest, mut behind) = (Vec::new(), Vec::new(), Vec::new());
+    let mut parts = MeshParts::new(camera, towards_light);
     let contacts = find_contacts(scene);
     for i in nearer_first(camera, &boxes) {
         let (block, albedo, touching) = (&scene.blocks[i], &albedos[i], &contacts.touching[i]);
@@ -191,12 +290,12 @@ pub fn photo_mesh(
             let reachable = outward.dot(towards_light) > 0.0
                 && may_be_shadowed(corners, towards_light, reach_mm, &near_boxes);
             if !reachable {
-                push_polygon(&mut rest, corners, outward, *albedo);
+                parts.push(Part::Rest, corners, outward, *albedo);
                 continue;
             }
             if k >= retract_mm.len() {
                 // A bevel strip or corner, a twentieth of a millimetre wide: whole.
-                push_polygon(&mut shadowed, corners, outward, *albedo);
+                parts.push(Part::Shadowed, corners, outward, *albedo);
                 continue;
             }
             let occluders: Vec<&[DVec3]> = near
@@ -206,7 +305,7 @@ pub fn photo_mesh(
                 .collect();
             let reached = shadow_reach(corners, outward, &frame, &occluders, reach_mm);
             if reached.is_empty() {
-                push_polygon(&mut rest, corners, outward, *albedo);
+                parts.push(Part::Rest, corners, outward, *albedo);
                 continue;
             }
             let lifted: Vec<DVec3> = reached
@@ -216,17 +315,17 @@ pub fn photo_mesh(
             let part = clip_convex(corners, &lifted, outward);
             let (part_mm2, whole_mm2) = (polygon_area(&part), polygon_area(corners));
             if part_mm2 <= 1e-9 * whole_mm2 {
-                push_polygon(&mut rest, corners, outward, *albedo);
+                parts.push(Part::Rest, corners, outward, *albedo);
             } else if part_mm2 >= (1.0 - 1e-9) * whole_mm2 {
-                push_polygon(&mut shadowed, corners, outward, *albedo);
+                parts.push(Part::Shadowed, corners, outward, *albedo);
             } else {
-                push_polygon(&mut shadowed, &part, outward, *albedo);
-                push_polygon(&mut behind, corners, outward, *albedo);
+                parts.push(Part::Shadowed, &part, outward, *albedo);
+                parts.push(Part::Behind, corners, outward, *albedo);
             }
         }
     }
     for sheet in &contacts.sheets {
-        push_polygon(&mut rest, &sheet.corners, sheet.outward, 0.0);
+        parts.push(Part::Rest, &sheet.corners, sheet.outward, 0.0);
     }
     let floor = floor_corners(camera, 0.0);
     let every_solid: Vec<&[DVec3]> = solids.iter().map(Vec::as_slice).collect();
@@ -235,17 +334,15 @@ pub fn photo_mesh(
         .map(|q| frame.onto_plane(*q, floor[0], DVec3::Y))
         .collect();
     let shadowed_floor = clip_convex(&floor, &reached, DVec3::Y);
-    push_polygon(&mut shadowed, &shadowed_floor, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+    parts.push(
+        Part::Shadowed,
+        &shadowed_floor,
+        DVec3::Y,
+        PHOTO_FLOOR_ALBEDO,
+    );
     let lowered = floor_corners(camera, -OUTER_FLOOR_DROP_MM);
-    push_polygon(&mut rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
-    let (shadowed_vertices, behind_vertices) = (shadowed.len(), behind.len());
-    shadowed.extend(rest);
-    shadowed.extend(behind);
-    PhotoMesh {
-        vertices: shadowed,
-        shadowed_vertices,
-        behind_vertices,
-    }
+    parts.push(Part::Rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+    parts.finish()
 }
 
 /// The blocks' indices, nearer to `camera` first (by the depth of their boxes' centres; ties
@@ -337,18 +434,60 @@ fn shadow_reach(
     if front.is_empty() {
         return Vec::new();
     }
-    const SIDES: usize = 16;
-    let radius = reach_mm / (std::f64::consts::PI / SIDES as f64).cos();
-    let grown: Vec<glam::DVec2> = crate::geom::convex_hull(&front)
-        .iter()
-        .flat_map(|c| {
-            (0..SIDES).map(move |k| {
-                let a = std::f64::consts::TAU * k as f64 / SIDES as f64;
-                *c + glam::DVec2::new(a.cos(), a.sin()) * radius
-            })
+    let radius = reach_mm / (std::f64::consts::PI / REACH_SIDES as f64).cos();
+    let hull = crate::geom::convex_hull(&front);
+    crate::geom::convex_hull(&grown_corners(&hull, radius))
+}
+
+/// The corners of the [`REACH_SIDES`]-gon of circumradius `radius` around each vertex of the
+/// counter-clockwise convex polygon `hull` that can lie on the outline of their hull (the
+/// polygon grown by the regular polygon: [`in_cone`]).
+fn grown_corners(hull: &[glam::DVec2], radius: f64) -> Vec<glam::DVec2> {
+    hull.iter()
+        .enumerate()
+        .flat_map(|(i, c)| {
+            let cone = vertex_cone(hull, i);
+            REACH_DIRECTIONS
+                .iter()
+                .filter(move |d| cone.is_none_or(|(e_in, e_out)| in_cone(**d, e_in, e_out)))
+                .map(move |d| *c + *d * radius)
         })
-        .collect();
-    crate::geom::convex_hull(&grown)
+        .collect()
+}
+
+/// Sides of the polygon circumscribing the reach around each point in [`shadow_reach`].
+const REACH_SIDES: usize = 16;
+
+/// The unit directions to the corners of [`REACH_SIDES`]-gon, counter-clockwise from +u.
+static REACH_DIRECTIONS: std::sync::LazyLock<[glam::DVec2; REACH_SIDES]> =
+    std::sync::LazyLock::new(|| {
+        std::array::from_fn(|k| {
+            let a = std::f64::consts::TAU * k as f64 / REACH_SIDES as f64;
+            glam::DVec2::new(a.cos(), a.sin())
+        })
+    });
+
+/// The edges into and out of vertex `i` of the counter-clockwise convex polygon `hull`, which
+/// bound the directions in which that vertex is the farthest ([`in_cone`]); `None` for fewer
+/// than three vertices (every direction counts).
+fn vertex_cone(hull: &[glam::DVec2], i: usize) -> Option<(glam::DVec2, glam::DVec2)> {
+    let n = hull.len();
+    (n >= 3).then(|| (hull[i] - hull[(i + n - 1) % n], hull[(i + 1) % n] - hull[i]))
+}
+
+/// Whether moving the vertex between edges `e_in` and `e_out` (of a counter-clockwise convex
+/// polygon) along `d`, a corner direction of the [`REACH_SIDES`]-gon, can give a corner of the
+/// grown polygon (their Minkowski sum): only when the directions in which the vertex is the
+/// polygon's farthest point meet those in which that corner is the regular polygon's, which
+/// lie within half a side's angle of `d`. So each edge's half-plane of directions is widened
+/// by that angle (and a millionth), and [`shadow_reach`] hulls only the points that pass: the
+/// same hull as of every point, with far fewer to sort.
+fn in_cone(d: glam::DVec2, e_in: glam::DVec2, e_out: glam::DVec2) -> bool {
+    // sin(pi / 16): half the angle between neighbouring corner directions.
+    const HALF_SIDE_SIN: f64 = 0.195_090_322_016_128_25;
+    const MARGIN: f64 = HALF_SIDE_SIN + 1e-6;
+    const _: () = assert!(REACH_SIDES == 16, "HALF_SIDE_SIN is sin(pi / REACH_SIDES)");
+    d.dot(e_in) >= -MARGIN * e_in.length() && d.dot(e_out) <= MARGIN * e_out.length()
 }
 
 /// The box `(lo, hi)` grown by `mm` on every side.
@@ -574,21 +713,28 @@ pub fn find_contacts(scene: &Scene) -> Contacts {
             .collect(),
         sheets: Vec::new(),
     };
+    // Each block's faces in world coordinates, with their outward normals: once per block.
+    let faces: Vec<Vec<(DVec3, Vec<DVec3>)>> = scene
+        .blocks
+        .iter()
+        .zip(&worlds)
+        .map(|(block, world)| {
+            let loops = block.block_type.faces();
+            let corners = |face: &[_]| face.iter().map(|&k: &u8| world[k as usize]).collect();
+            (0..loops.len())
+                .map(|f| (block.world_face_normal(f), corners(loops[f])))
+                .collect()
+        })
+        .collect();
     for [a, b] in crate::geom::touching_box_pairs(&boxes) {
-        let (fa_all, fb_all) = (
-            scene.blocks[a].block_type.faces(),
-            scene.blocks[b].block_type.faces(),
-        );
-        for (fa, face_a) in fa_all.iter().enumerate() {
-            let na = scene.blocks[a].world_face_normal(fa);
-            let poly_a: Vec<DVec3> = face_a.iter().map(|&k| worlds[a][k as usize]).collect();
-            for (fb, face_b) in fb_all.iter().enumerate() {
-                let nb = scene.blocks[b].world_face_normal(fb);
-                let poly_b: Vec<DVec3> = face_b.iter().map(|&k| worlds[b][k as usize]).collect();
+        for (fa, (na, poly_a)) in faces[a].iter().enumerate() {
+            let na = *na;
+            for (fb, (nb, poly_b)) in faces[b].iter().enumerate() {
+                let nb = *nb;
                 if na.dot(nb) > -0.9999 || na.dot(poly_b[0] - poly_a[0]).abs() > CONTACT_MM {
                     continue;
                 }
-                let patch = clip_convex(&poly_a, &poly_b, nb);
+                let patch = clip_convex(poly_a, poly_b, nb);
                 if polygon_area(&patch) < 1e-3 {
                     continue;
                 }
@@ -843,6 +989,75 @@ mod tests {
         assert!(swept_box_meets(unit, slanted, aside));
     }
 
+    /// Whether triangle `t` (its vertices' normal) turns away from direction `dir`, by more
+    /// than an f32 normal's rounding (a face seen edge-on does not).
+    fn turned_away(t: &[PhotoVertex], dir: DVec3) -> bool {
+        DVec3::from(t[0].normal.map(f64::from)).dot(dir.normalize()) < -1e-6
+    }
+
+    /// Whether triangle `t` runs clockwise in `camera`'s picture (x right, y up) by more than
+    /// rounding: the back face the radiance pass culls. A face seen edge-on (a sliver whose
+    /// area is a rounding of its vertices, under 1e-4 of its longest side squared) does not.
+    fn clockwise_on_screen(t: &[PhotoVertex], camera: &Camera) -> bool {
+        let p: Vec<glam::DVec2> = t
+            .iter()
+            .map(|v| {
+                let q = camera.picture_from_world(DVec3::from(v.position_mm.map(f64::from)));
+                glam::DVec2::new(q.x, q.y)
+            })
+            .collect();
+        let longest_sq = [p[1] - p[0], p[2] - p[1], p[0] - p[2]]
+            .iter()
+            .map(|e| e.length_squared())
+            .fold(0.0, f64::max);
+        (p[1] - p[0]).perp_dot(p[2] - p[0]) < -1e-4 * longest_sq
+    }
+
+    #[test]
+    fn each_pass_gets_the_triangles_it_does_not_cull() {
+        // A stack, a touching neighbour (cracks and their sheets) and a jittered light.
+        let upper = Block::new("b15", DVec3::new(3.0, 22.5, 2.0), 0.0);
+        let beside = Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0);
+        let scene = Scene::new("s", vec![cube(), upper, beside]);
+        let albedos = [0.9, 0.8, 0.85];
+        for view in CornerView::ALL {
+            let cam = cube_camera(view);
+            let light = key_light(&cam, 20.0, 3).towards_light;
+            let m = photo_mesh(&scene, &cam, &albedos, light, 9.0);
+            let tris = |r: std::ops::Range<usize>| m.vertices[r].to_vec();
+            let drawn = [
+                tris(m.shadowed.clone()),
+                tris(m.behind.clone()),
+                tris(m.unshadowed.clone()),
+            ]
+            .concat();
+            assert!(!drawn.is_empty());
+            for t in drawn.chunks_exact(3) {
+                assert!(
+                    !clockwise_on_screen(t, &cam),
+                    "{view:?}: a triangle turned away from the eye"
+                );
+            }
+            let casters = tris(m.casters.clone());
+            assert!(casters.chunks_exact(3).all(|t| !turned_away(t, -light)));
+            // Every face turned away from the light casts, as in the plain mesh.
+            let plain = photo_vertices(&scene, &cam, &albedos);
+            let away = plain
+                .chunks_exact(3)
+                .filter(|t| !turned_away(t, -light))
+                .count();
+            assert_eq!(casters.len() / 3, away, "{view:?}");
+            // The ranges cover every vertex, so nothing is uploaded that no pass draws.
+            assert_eq!(m.shadowed.start, 0);
+            assert_eq!(
+                (m.shadowed.end, m.behind.end),
+                (m.behind.start, m.unshadowed.start)
+            );
+            assert!(m.casters.start >= m.unshadowed.start && m.casters.start <= m.unshadowed.end);
+            assert_eq!(m.casters.end, m.vertices.len());
+        }
+    }
+
     #[test]
     fn only_faces_and_floor_near_another_block_get_the_shadow_test() {
         let cam = cube_camera(CornerView::Ne);
@@ -850,27 +1065,37 @@ mod tests {
         let lone = Scene::new("c", vec![cube()]);
         let m = photo_mesh(&lone, &cam, &[0.9], light, 9.0);
         // A lone convex block shades no face of its own: only the floor near it is shadowed.
-        let shadowed = &m.vertices[..m.shadowed_vertices];
+        let shadowed = &m.vertices[m.shadowed.clone()];
         assert!(!shadowed.is_empty() && shadowed.iter().all(|v| v.albedo == 0.15));
         assert!(shadowed.iter().all(|v| v.position_mm[1] == 0.0));
-        // Every block triangle is drawn once, whichever pipeline draws it.
+        // Every block triangle turned to the eye is drawn once, whichever pipeline draws it.
         let all = photo_vertices(&lone, &cam, &[0.9]);
+        let seen: Vec<PhotoVertex> = all
+            .chunks_exact(3)
+            .filter(|t| !clockwise_on_screen(t, &cam))
+            .flatten()
+            .copied()
+            .collect();
         let blocks = |v: &[PhotoVertex]| v.iter().filter(|v| v.albedo != 0.15).count();
-        assert_eq!(blocks(&m.vertices), blocks(&all));
-        assert_eq!(m.behind_vertices, 0);
+        let radiance = [
+            &m.vertices[m.shadowed.clone()],
+            &m.vertices[m.unshadowed.clone()],
+        ];
+        assert_eq!(blocks(&radiance.concat()), blocks(&seen));
+        assert!(m.behind.is_empty());
         // A cube on top of another, shifted towards the light: the lower one's top faces it.
         let shift = DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
         let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
         let stack = Scene::new("s", vec![cube(), upper]);
         let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
-        let shadowed = &m.vertices[..m.shadowed_vertices];
+        let shadowed = &m.vertices[m.shadowed.clone()];
         assert!(shadowed
             .iter()
             .any(|v| v.albedo == 0.9 && v.normal[1] > 0.99));
         assert!(!shadowed
             .iter()
             .any(|v| v.albedo == 0.8 && v.normal[1] > 0.99));
-        let rest = &m.vertices[m.shadowed_vertices..];
+        let rest = &m.vertices[m.unshadowed.clone()];
         assert!(rest
             .iter()
             .any(|v| v.position_mm[1] == -OUTER_FLOOR_DROP_MM as f32));
@@ -896,8 +1121,8 @@ mod tests {
                 })
                 .sum()
         };
-        let behind = &m.vertices[m.vertices.len() - m.behind_vertices..];
-        let shadowed = &m.vertices[..m.shadowed_vertices];
+        let behind = &m.vertices[m.behind.clone()];
+        let shadowed = &m.vertices[m.shadowed.clone()];
         let (part, whole) = (top_area(shadowed), top_area(behind));
         // The lower top: its sides touch nothing, so only the bevel insets them.
         let side = 15.0 - 2.0 * BEVEL_MM;
@@ -907,12 +1132,62 @@ mod tests {
             "{part} of {whole}"
         );
         // The whole top is drawn once behind, not also in front.
-        let front = &m.vertices[m.shadowed_vertices..m.vertices.len() - m.behind_vertices];
+        let front = &m.vertices[m.unshadowed.clone()];
         assert_eq!(top_area(front), 0.0);
         // With the reach of the shader, the whole top is within reach: shadowed, drawn once.
         let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
-        assert!((top_area(&m.vertices[..m.shadowed_vertices]) - side * side).abs() < 1e-3);
-        assert_eq!(top_area(&m.vertices[m.shadowed_vertices..]), 0.0);
+        assert!((top_area(&m.vertices[m.shadowed.clone()]) - side * side).abs() < 1e-3);
+        assert_eq!(top_area(&m.vertices[m.shadowed.end..]), 0.0);
+    }
+
+    #[test]
+    fn the_reach_hulls_only_the_grown_points_that_can_bound_it() {
+        // Every point of the 16-gons around every vertex, hulled, against the points within
+        // each vertex's cone: the same polygon, on random convex hulls and on a segment.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let radius = 9.0;
+        for case in 0..200 {
+            let n = if case % 10 == 0 {
+                2
+            } else {
+                rng.random_range(3..12)
+            };
+            let points: Vec<glam::DVec2> = (0..n)
+                .map(|_| {
+                    glam::DVec2::new(rng.random_range(-20.0..20.0), rng.random_range(-20.0..20.0))
+                })
+                .collect();
+            let hull = crate::geom::convex_hull(&points);
+            let every: Vec<glam::DVec2> = hull
+                .iter()
+                .flat_map(|c| REACH_DIRECTIONS.iter().map(move |d| *c + *d * radius))
+                .collect();
+            let want = crate::geom::convex_hull(&every);
+            let kept = grown_corners(&hull, radius);
+            assert!(kept.len() < every.len() || hull.len() < 3);
+            let got = crate::geom::convex_hull(&kept);
+            assert_eq!(got.len(), want.len(), "case {case}");
+            for (g, w) in got.iter().zip(&want) {
+                assert!(g.distance(*w) < 1e-9, "case {case}: {g} against {w}");
+            }
+        }
+        // The cone test can fail: a vertex is not the farthest against its edges' directions.
+        let (e_in, e_out) = (glam::DVec2::X, glam::DVec2::Y);
+        assert!(in_cone(
+            glam::DVec2::new(1.0, -1.0).normalize(),
+            e_in,
+            e_out
+        ));
+        assert!(!in_cone(
+            glam::DVec2::new(-1.0, -1.0).normalize(),
+            e_in,
+            e_out
+        ));
+        assert!(!in_cone(
+            glam::DVec2::new(1.0, 1.0).normalize(),
+            e_in,
+            e_out
+        ));
     }
 
     #[test]
@@ -925,7 +1200,7 @@ mod tests {
         let beside = Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0);
         let row = Scene::new("r", vec![cube(), beside]);
         let m = photo_mesh(&row, &cam, &[0.9, 0.8], light, 9.0);
-        let shadowed = &m.vertices[..m.shadowed_vertices];
+        let shadowed = &m.vertices[m.shadowed.clone()];
         assert!(
             !shadowed
                 .iter()

@@ -108,54 +108,141 @@ impl SensorModel {
     }
 
     /// Records `radiance` as an 8-bit picture: blur, vignetting, shot and read noise (seeded by
-    /// `seed`, the same seed gives the same picture), gamma, quantization. After the blur the
-    /// steps run fused, one pass over the pixels, with the arithmetic of [`apply_vignetting`],
-    /// [`add_shot_and_read_noise`] and [`quantize`] (a unit test holds them to the same bytes).
-    /// The loops are compiled twice, for baseline x86-64 and for AVX2 (chosen at run time when
-    /// the CPU has it): the same IEEE operations on each pixel, so the same bytes, in twice the
-    /// lanes.
+    /// `seed`, the same seed gives the same picture), gamma, quantization. The picture is cut
+    /// into bands of [`BAND_ROWS`] rows, exposed on rayon's threads (within the caller's pool,
+    /// so `--jobs 1` stays on one thread); each band blurs its own rows plus the kernel's
+    /// radius of neighbours, so it stays in the cache, and every pixel gets the same IEEE
+    /// operations in the same order as [`gaussian_blur`], [`apply_vignetting`],
+    /// [`add_shot_and_read_noise`] and [`quantize`] one after another (a unit test holds them to
+    /// the same bytes), whatever the bands or threads.
     pub fn expose(&self, radiance: &RadianceImage, seed: u64) -> GrayImage {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            return unsafe { self.expose_avx2(radiance, seed) };
+        use rayon::prelude::*;
+        let exposure = Exposure::new(self, radiance, seed);
+        let mut out = vec![0u8; radiance.values.len()];
+        let band_px = (radiance.width as usize * BAND_ROWS).max(1);
+        out.par_chunks_mut(band_px)
+            .enumerate()
+            .for_each(|(b, band)| exposure.band(b * BAND_ROWS, band));
+        GrayImage::from_raw(radiance.width, radiance.height, out).expect("one level per pixel")
+    }
+}
+
+/// Rows of one band of [`SensorModel::expose`]: 32 rows of 512 px blurred with a 7-tap kernel
+/// are 38 rows of f32, 78 KB, within a core's L2 cache.
+pub const BAND_ROWS: usize = 32;
+
+/// What [`SensorModel::expose`] computes once per picture and every band reads.
+struct Exposure<'a> {
+    radiance: &'a RadianceImage,
+    kernel: Vec<f32>,
+    vignette: Vignette,
+    noise: PixelNoise,
+    levels: QuantizationLevels,
+}
+
+impl<'a> Exposure<'a> {
+    fn new(sensor: &SensorModel, radiance: &'a RadianceImage, seed: u64) -> Exposure<'a> {
+        Exposure {
+            radiance,
+            kernel: gaussian_kernel(sensor.blur_sigma_px),
+            vignette: Vignette::new(radiance.width, radiance.height, sensor.vignetting),
+            noise: PixelNoise::new(sensor.full_well_e, sensor.read_noise_e, seed),
+            levels: QuantizationLevels::new(sensor.gamma),
         }
-        self.expose_pixels(radiance, seed)
     }
 
-    /// [`SensorModel::expose_pixels`] compiled with AVX2.
+    /// Exposes the rows from `y0` into `out` (whole rows), with the widest vector arithmetic
+    /// the CPU has: the loops are compiled for baseline x86-64, AVX2 and AVX-512 (chosen at
+    /// run time), the same IEEE operations on each pixel, so the same bytes.
+    fn band(&self, y0: usize, out: &mut [u8]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+                && std::arch::is_x86_feature_detected!("avx512bw")
+            {
+                // SAFETY: the CPU has these features, checked just above.
+                return unsafe { self.band_avx512(y0, out) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2, checked just above.
+                return unsafe { self.band_avx2(y0, out) };
+            }
+        }
+        self.band_pixels(y0, out)
+    }
+
+    /// [`Exposure::band_pixels`] compiled with AVX-512 (64-bit multiplies in vectors for the
+    /// noise's hash).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw")]
+    unsafe fn band_avx512(&self, y0: usize, out: &mut [u8]) {
+        self.band_pixels(y0, out)
+    }
+
+    /// [`Exposure::band_pixels`] compiled with AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn expose_avx2(&self, radiance: &RadianceImage, seed: u64) -> GrayImage {
-        self.expose_pixels(radiance, seed)
+    unsafe fn band_avx2(&self, y0: usize, out: &mut [u8]) {
+        self.band_pixels(y0, out)
     }
 
-    /// The body of [`SensorModel::expose`], inlined into each compiled variant.
+    /// The body of [`Exposure::band`], inlined into each compiled variant: the horizontal blur
+    /// of the band's rows and the kernel's radius around them ([`blur_row`]), then per output
+    /// row the vertical blur ([`blur_columns`]'s sum, rows clamped to the picture) and the
+    /// fused vignetting, noise and quantization.
     #[inline(always)]
-    fn expose_pixels(&self, radiance: &RadianceImage, seed: u64) -> GrayImage {
-        let light = gaussian_blur(radiance, self.blur_sigma_px);
-        let w = light.width as usize;
-        let vignette = Vignette::new(light.width, light.height, self.vignetting);
-        let noise = PixelNoise::new(self.full_well_e, self.read_noise_e, seed);
-        let levels = QuantizationLevels::new(self.gamma);
-        let mut out = vec![0u8; light.values.len()];
-        for (y, (row, out_row)) in light
-            .values
-            .chunks_exact(w.max(1))
-            .zip(out.chunks_exact_mut(w.max(1)))
-            .enumerate()
-        {
-            let first = y * w;
-            if levels.thresholds.is_none() && noise.on {
-                expose_linear_row(row, out_row, &vignette, y, &noise, first);
-                continue;
-            }
-            for (x, (value, level)) in row.iter().zip(out_row.iter_mut()).enumerate() {
-                let kept = value * vignette.gain(x, y);
-                *level = levels.level(noise.record(kept, first + x));
-            }
+    fn band_pixels(&self, y0: usize, out: &mut [u8]) {
+        let (w, h) = (self.radiance.width as usize, self.radiance.height as usize);
+        if w == 0 {
+            return;
         }
-        GrayImage::from_raw(light.width, light.height, out).expect("one level per pixel")
+        let rows = out.len() / w;
+        let r = self.kernel.len() / 2;
+        let (lo, hi) = (y0.saturating_sub(r), (y0 + rows + r).min(h));
+        let source = |y: usize| &self.radiance.values[y * w..][..w];
+        let mut light = vec![0.0f32; w];
+        let blurred: Vec<f32> = if r == 0 {
+            Vec::new()
+        } else {
+            let mut blurred = vec![0.0f32; (hi - lo) * w];
+            let mut padded = vec![0.0f32; w + 2 * r];
+            for (y, dst) in (lo..hi).zip(blurred.chunks_exact_mut(w)) {
+                blur_row(source(y), dst, &mut padded, &self.kernel);
+            }
+            blurred
+        };
+        for (dy, out_row) in out.chunks_exact_mut(w).enumerate() {
+            let y = y0 + dy;
+            let row: &[f32] = if r == 0 {
+                source(y)
+            } else {
+                light.fill(0.0);
+                for (k, weight) in self.kernel.iter().enumerate() {
+                    let sy = (y + k).saturating_sub(r).min(h - 1);
+                    for (d, s) in light.iter_mut().zip(&blurred[(sy - lo) * w..][..w]) {
+                        *d += weight * s;
+                    }
+                }
+                &light
+            };
+            self.expose_row(row, out_row, y);
+        }
+    }
+
+    /// Vignetting, noise and quantization of blurred row `y`.
+    #[inline(always)]
+    fn expose_row(&self, row: &[f32], out_row: &mut [u8], y: usize) {
+        let first = y * row.len();
+        if self.levels.thresholds.is_none() && self.noise.on {
+            expose_linear_row(row, out_row, &self.vignette, y, &self.noise, first);
+            return;
+        }
+        for (x, (value, level)) in row.iter().zip(out_row.iter_mut()).enumerate() {
+            let kept = value * self.vignette.gain(x, y);
+            *level = self.levels.level(self.noise.record(kept, first + x));
+        }
     }
 }
 
@@ -209,8 +296,7 @@ pub fn gaussian_blur(img: &RadianceImage, sigma_px: f64) -> RadianceImage {
     blur_columns(&blur_rows(img, &kernel), &kernel)
 }
 
-/// The horizontal pass of [`gaussian_blur`]: each row padded with its edge pixels, then
-/// `out[x] = sum_k kernel[k] * padded[x + k]`.
+/// The horizontal pass of [`gaussian_blur`], row by row ([`blur_row`]).
 #[inline(always)]
 fn blur_rows(img: &RadianceImage, kernel: &[f32]) -> RadianceImage {
     let (w, r) = (img.width as usize, kernel.len() / 2);
@@ -221,16 +307,25 @@ fn blur_rows(img: &RadianceImage, kernel: &[f32]) -> RadianceImage {
         .chunks_exact(w)
         .zip(out.values.chunks_exact_mut(w))
     {
-        padded[..r].fill(src[0]);
-        padded[r..r + w].copy_from_slice(src);
-        padded[r + w..].fill(src[w - 1]);
-        for (k, weight) in kernel.iter().enumerate() {
-            for (d, s) in dst.iter_mut().zip(&padded[k..k + w]) {
-                *d += weight * s;
-            }
-        }
+        blur_row(src, dst, &mut padded, kernel);
     }
     out
+}
+
+/// One row of the horizontal blur: `src` padded with its edge pixels (in `padded`, of
+/// `src.len() + kernel.len() - 1` values), then `dst[x] = sum_k kernel[k] * padded[x + k]`
+/// added in the kernel's order onto `dst`'s zeros.
+#[inline(always)]
+fn blur_row(src: &[f32], dst: &mut [f32], padded: &mut [f32], kernel: &[f32]) {
+    let (w, r) = (src.len(), kernel.len() / 2);
+    padded[..r].fill(src[0]);
+    padded[r..r + w].copy_from_slice(src);
+    padded[r + w..].fill(src[w - 1]);
+    for (k, weight) in kernel.iter().enumerate() {
+        for (d, s) in dst.iter_mut().zip(&padded[k..k + w]) {
+            *d += weight * s;
+        }
+    }
 }
 
 /// The vertical pass of [`gaussian_blur`]: row `y` of the output is the weighted sum of the
@@ -553,9 +648,30 @@ mod tests {
         img
     }
 
+    /// [`SensorModel::expose`] with its baseline loops (what a CPU without AVX2 runs), one band
+    /// after another on this thread.
+    fn exposed_by_baseline_loops(
+        sensor: &SensorModel,
+        radiance: &RadianceImage,
+        seed: u64,
+    ) -> GrayImage {
+        let exposure = Exposure::new(sensor, radiance, seed);
+        let w = radiance.width as usize;
+        let mut out = vec![0u8; radiance.values.len()];
+        for (b, band) in out.chunks_mut(w * BAND_ROWS).enumerate() {
+            exposure.band_pixels(b * BAND_ROWS, band);
+        }
+        GrayImage::from_raw(radiance.width, radiance.height, out).unwrap()
+    }
+
     #[test]
     fn the_fused_exposure_equals_the_steps_one_after_another() {
-        let img = test_scene(37, 23);
+        // Taller than two bands, with a bright stripe across the border between the first two
+        // (each band blurs the rows beyond its border itself).
+        let mut img = test_scene(37, 23 + 2 * BAND_ROWS as u32);
+        for x in 0..37 {
+            img.values[(BAND_ROWS - 1) * 37 + x] = 0.95;
+        }
         for sensor in [
             SensorModel::default(),
             SensorModel {
@@ -575,7 +691,20 @@ mod tests {
                 exposed_step_by_step(&sensor, &img, 9)
             );
             // The baseline loops (what a CPU without AVX2 runs) give the same bytes.
-            assert_eq!(sensor.expose(&img, 9), sensor.expose_pixels(&img, 9));
+            assert_eq!(
+                sensor.expose(&img, 9),
+                exposed_by_baseline_loops(&sensor, &img, 9)
+            );
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let exposure = Exposure::new(&sensor, &img, 9);
+                let mut out = vec![0u8; img.values.len()];
+                for (b, band) in out.chunks_mut(37 * BAND_ROWS).enumerate() {
+                    // SAFETY: the CPU has AVX2, checked just above.
+                    unsafe { exposure.band_avx2(b * BAND_ROWS, band) };
+                }
+                assert_eq!(sensor.expose(&img, 9).into_raw(), out);
+            }
         }
         // The comparison can fail: another seed's noise differs.
         let sensor = SensorModel::default();

@@ -5,6 +5,8 @@
 //! per view), the one-view render plus the exact line drawing (`Renderer::render`), render +
 //! readback + PNG encoding of the three images, and the photo look's render + readback (README
 //! "Photographic look"; a quarter of the iterations) with its ratio to line art's.
+//! `--photo-only` times the photo look alone (after four untimed views), so a profiler such as
+//! callgrind counts nothing else; `--blocks` picks the scene sizes.
 
 use anyhow::Context;
 use blockworld::camera::CornerView;
@@ -25,6 +27,13 @@ pub struct Args {
     /// Multisample count, 1 or 4.
     #[arg(long, default_value_t = 1)]
     pub msaa: u32,
+    /// Scene sizes, blocks (comma-separated; `b15_layers` stacks of Baustein 15).
+    #[arg(long, value_delimiter = ',', default_values_t = [1, 10, 50])]
+    pub blocks: Vec<usize>,
+    /// Time only the photo look: four untimed views, then a quarter of `--iterations` timed
+    /// (for profiling it alone, e.g. `valgrind --tool=callgrind`).
+    #[arg(long)]
+    pub photo_only: bool,
 }
 
 /// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
@@ -44,6 +53,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..Default::default()
     };
     let iterations = args.iterations.max(4);
+    if let Some(n) = args.blocks.iter().find(|n| !(1..=1000).contains(*n)) {
+        anyhow::bail!("--blocks {n}: use sizes from 1 to 1000 blocks");
+    }
     let start = Instant::now();
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     let setup = start.elapsed();
@@ -56,17 +68,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "{} x {}, msaa {}, {iterations} timed renders per scene over the four views (each cell: median / mean wall ms / CPU ms per view)",
         opts.camera.size_px[0], opts.camera.size_px[1], opts.msaa
     )?;
-    outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
-    outln!("|---|---|---|---|---|---|---|")?;
     let photo = RenderOptions {
         look: blockworld::render::Look::Photo,
         ..opts
     };
-    for n in [1, 10, 50] {
+    if args.photo_only {
+        outln!("| blocks | photo look: render + readback |")?;
+        outln!("|---|---|")?;
+    } else {
+        outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
+        outln!("|---|---|---|---|---|---|---|")?;
+    }
+    for &n in &args.blocks {
         let scene = bench_scene(n);
         scene
             .validate(&scene.name)
             .context("the benchmark scene is invalid")?;
+        if args.photo_only {
+            let photo_pixels = time_photo(&renderer, &scene, &photo, iterations)?;
+            outln!("| {n} | {} |", photo_pixels.show())?;
+            continue;
+        }
         for k in 0..32 {
             renderer.render_pixels(&scene, CornerView::ALL[k % 4], &opts)?;
         }
@@ -95,12 +117,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(e) = encode_error {
             return Err(e).context("encoding PNGs");
         }
-        for k in 0..4 {
-            renderer.render_pixels(&scene, CornerView::ALL[k % 4], &photo)?;
-        }
-        let photo_pixels = time_views(iterations.div_ceil(4).max(4), |view| {
-            renderer.render_pixels(&scene, view, &photo).map(|_| ())
-        })?;
+        let photo_pixels = time_photo(&renderer, &scene, &photo, iterations)?;
         outln!(
             "| {n} | {} | {} | {} | {} | {} | {:.1} x |",
             pixels.show(),
@@ -112,6 +129,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// The photo look's column: four untimed views, then a quarter of `iterations` (at least
+/// four) timed.
+fn time_photo(
+    renderer: &Renderer,
+    scene: &Scene,
+    photo: &RenderOptions,
+    iterations: usize,
+) -> anyhow::Result<Timing> {
+    for k in 0..4 {
+        renderer.render_pixels(scene, CornerView::ALL[k % 4], photo)?;
+    }
+    time_views(iterations.div_ceil(4).max(4), |view| {
+        renderer.render_pixels(scene, view, photo).map(|_| ())
+    })
 }
 
 /// Median and mean wall time per view, and the process's CPU time per view (all threads,
