@@ -7,7 +7,7 @@
 //! Plain data, no wgpu.
 
 use super::super::gpu::mesh::light_in_world;
-use crate::camera::Camera;
+use crate::camera::{Camera, FRONT_FACING_COS};
 use crate::geom::DVec3;
 use crate::scene::{Block, Scene};
 use glam::DMat3;
@@ -163,9 +163,8 @@ enum Part {
 }
 
 /// The polygons of [`photo_mesh`] sorted by the passes that draw them ([`PhotoMesh`]).
-struct MeshParts {
-    to_eye: Option<DVec3>,
-    eye: DVec3,
+struct MeshParts<'a> {
+    camera: &'a Camera,
     towards_light: DVec3,
     shadowed: Vec<PhotoVertex>,
     behind: Vec<PhotoVertex>,
@@ -174,17 +173,10 @@ struct MeshParts {
     casters: Vec<PhotoVertex>,
 }
 
-/// How far past edge-on (cosine of the angle between a face's normal and the direction to the
-/// eye or the light) a face must turn away before the passes' culling is left to the CPU: a
-/// face closer to edge-on goes to the GPU, whose own test decides. Far below any face's
-/// rounding, far above the sliver a face seen edge-on covers (no pixel).
-const CULL_MARGIN_COS: f64 = 1e-9;
-
-impl MeshParts {
-    fn new(camera: &Camera, towards_light: DVec3) -> MeshParts {
+impl<'a> MeshParts<'a> {
+    fn new(camera: &'a Camera, towards_light: DVec3) -> MeshParts<'a> {
         MeshParts {
-            to_eye: camera.is_orthographic().then(|| camera.towards_eye()),
-            eye: camera.eye(),
+            camera,
             towards_light,
             shadowed: Vec::new(),
             behind: Vec::new(),
@@ -195,17 +187,16 @@ impl MeshParts {
     }
 
     /// Adds the polygon `corners` (outward normal `outward`) to `part`, in every range whose
-    /// pass does not cull it.
+    /// pass does not cull it. Only a face turned clearly away (past edge-on by the renderer's
+    /// [`FRONT_FACING_COS`]) from the eye or towards the light is left out of a pass; one
+    /// closer to edge-on goes to the GPU, whose own test decides.
     fn push(&mut self, part: Part, corners: &[DVec3], outward: DVec3, albedo: f64) {
         let Some(&first) = corners.first() else {
             return;
         };
         let n = outward.normalize_or_zero();
-        let to_eye = self
-            .to_eye
-            .unwrap_or_else(|| (self.eye - first).normalize_or_zero());
-        let seen = n.dot(to_eye) >= -CULL_MARGIN_COS;
-        let casts = n.dot(self.towards_light) <= CULL_MARGIN_COS;
+        let seen = !self.camera.faces_eye(-n, first);
+        let casts = n.dot(self.towards_light) <= FRONT_FACING_COS;
         let out = match (part, seen, casts) {
             (Part::Shadowed, true, _) => &mut self.shadowed,
             (Part::Behind, true, _) => &mut self.behind,
@@ -1188,6 +1179,10 @@ mod tests {
             e_in,
             e_out
         ));
+        // Widened by half a 16-gon side's angle, 11.25 degrees, and no more.
+        let at = |deg: f64| glam::DVec2::from_angle(deg.to_radians());
+        assert!(in_cone(at(11.0), e_in, e_out) && in_cone(at(-101.0), e_in, e_out));
+        assert!(!in_cone(at(11.5), e_in, e_out) && !in_cone(at(-101.5), e_in, e_out));
     }
 
     #[test]

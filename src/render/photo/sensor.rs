@@ -190,8 +190,8 @@ impl<'a> Exposure<'a> {
 
     /// The body of [`Exposure::band`], inlined into each compiled variant: the horizontal blur
     /// of the band's rows and the kernel's radius around them ([`blur_row`]), then per output
-    /// row the vertical blur ([`blur_columns`]'s sum, rows clamped to the picture) and the
-    /// fused vignetting, noise and quantization.
+    /// row the vertical blur ([`blur_column_row`]) and the fused vignetting, noise and
+    /// quantization.
     #[inline(always)]
     fn band_pixels(&self, y0: usize, out: &mut [u8]) {
         let (w, h) = (self.radiance.width as usize, self.radiance.height as usize);
@@ -219,12 +219,9 @@ impl<'a> Exposure<'a> {
                 source(y)
             } else {
                 light.fill(0.0);
-                for (k, weight) in self.kernel.iter().enumerate() {
-                    let sy = (y + k).saturating_sub(r).min(h - 1);
-                    for (d, s) in light.iter_mut().zip(&blurred[(sy - lo) * w..][..w]) {
-                        *d += weight * s;
-                    }
-                }
+                blur_column_row(&mut light, y, h, &self.kernel, |sy| {
+                    &blurred[(sy - lo) * w..][..w]
+                });
                 &light
             };
             self.expose_row(row, out_row, y);
@@ -287,7 +284,6 @@ pub fn gaussian_kernel(sigma_px: f64) -> Vec<f32> {
 /// repeats the edge pixel, so a uniform picture stays uniform and light is conserved inside.
 /// Each pass adds the kernel's weighted, shifted rows in the kernel's order (whole rows at a
 /// time, which the compiler turns into vector arithmetic).
-#[inline(always)]
 pub fn gaussian_blur(img: &RadianceImage, sigma_px: f64) -> RadianceImage {
     let kernel = gaussian_kernel(sigma_px);
     if kernel.len() == 1 || img.values.is_empty() {
@@ -297,7 +293,6 @@ pub fn gaussian_blur(img: &RadianceImage, sigma_px: f64) -> RadianceImage {
 }
 
 /// The horizontal pass of [`gaussian_blur`], row by row ([`blur_row`]).
-#[inline(always)]
 fn blur_rows(img: &RadianceImage, kernel: &[f32]) -> RadianceImage {
     let (w, r) = (img.width as usize, kernel.len() / 2);
     let mut out = RadianceImage::filled(img.width, img.height, 0.0);
@@ -328,21 +323,34 @@ fn blur_row(src: &[f32], dst: &mut [f32], padded: &mut [f32], kernel: &[f32]) {
     }
 }
 
-/// The vertical pass of [`gaussian_blur`]: row `y` of the output is the weighted sum of the
-/// input rows `y - r ..= y + r` (clamped to the picture).
-#[inline(always)]
+/// The vertical pass of [`gaussian_blur`], row by row ([`blur_column_row`]).
 fn blur_columns(img: &RadianceImage, kernel: &[f32]) -> RadianceImage {
-    let (w, h, r) = (img.width as usize, img.height as usize, kernel.len() / 2);
+    let (w, h) = (img.width as usize, img.height as usize);
     let mut out = RadianceImage::filled(img.width, img.height, 0.0);
     for (y, dst) in out.values.chunks_exact_mut(w).enumerate() {
-        for (k, weight) in kernel.iter().enumerate() {
-            let sy = (y + k).saturating_sub(r).min(h - 1);
-            for (d, s) in dst.iter_mut().zip(&img.values[sy * w..][..w]) {
-                *d += weight * s;
-            }
-        }
+        blur_column_row(dst, y, h, kernel, |sy| &img.values[sy * w..][..w]);
     }
     out
+}
+
+/// Row `y` of the vertical blur of a picture `h` rows tall, added onto `dst`'s zeros: the
+/// weighted sum, in the kernel's order, of the rows `y - r ..= y + r` clamped to the picture,
+/// row `sy` read as `row(sy)`.
+#[inline(always)]
+fn blur_column_row<'r>(
+    dst: &mut [f32],
+    y: usize,
+    h: usize,
+    kernel: &[f32],
+    row: impl Fn(usize) -> &'r [f32],
+) {
+    let r = kernel.len() / 2;
+    for (k, weight) in kernel.iter().enumerate() {
+        let sy = (y + k).saturating_sub(r).min(h - 1);
+        for (d, s) in dst.iter_mut().zip(row(sy)) {
+            *d += weight * s;
+        }
+    }
 }
 
 /// The share of light each pixel keeps under vignetting, `1 - v r^2`, from per-column and
@@ -648,18 +656,19 @@ mod tests {
         img
     }
 
-    /// [`SensorModel::expose`] with its baseline loops (what a CPU without AVX2 runs), one band
-    /// after another on this thread.
-    fn exposed_by_baseline_loops(
+    /// [`SensorModel::expose`] one band after another on this thread, each exposed by `band`
+    /// (one of [`Exposure`]'s compiled variants).
+    fn exposed_band_by_band(
         sensor: &SensorModel,
         radiance: &RadianceImage,
         seed: u64,
+        band: impl Fn(&Exposure, usize, &mut [u8]),
     ) -> GrayImage {
         let exposure = Exposure::new(sensor, radiance, seed);
         let w = radiance.width as usize;
         let mut out = vec![0u8; radiance.values.len()];
-        for (b, band) in out.chunks_mut(w * BAND_ROWS).enumerate() {
-            exposure.band_pixels(b * BAND_ROWS, band);
+        for (b, rows) in out.chunks_mut(w * BAND_ROWS).enumerate() {
+            band(&exposure, b * BAND_ROWS, rows);
         }
         GrayImage::from_raw(radiance.width, radiance.height, out).unwrap()
     }
@@ -691,19 +700,19 @@ mod tests {
                 exposed_step_by_step(&sensor, &img, 9)
             );
             // The baseline loops (what a CPU without AVX2 runs) give the same bytes.
+            let baseline = |e: &Exposure, y0, rows: &mut [u8]| e.band_pixels(y0, rows);
             assert_eq!(
                 sensor.expose(&img, 9),
-                exposed_by_baseline_loops(&sensor, &img, 9)
+                exposed_band_by_band(&sensor, &img, 9, baseline)
             );
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
-                let exposure = Exposure::new(&sensor, &img, 9);
-                let mut out = vec![0u8; img.values.len()];
-                for (b, band) in out.chunks_mut(37 * BAND_ROWS).enumerate() {
-                    // SAFETY: the CPU has AVX2, checked just above.
-                    unsafe { exposure.band_avx2(b * BAND_ROWS, band) };
-                }
-                assert_eq!(sensor.expose(&img, 9).into_raw(), out);
+                // SAFETY: the CPU has AVX2, checked just above.
+                let avx2 = |e: &Exposure, y0, rows: &mut [u8]| unsafe { e.band_avx2(y0, rows) };
+                assert_eq!(
+                    sensor.expose(&img, 9),
+                    exposed_band_by_band(&sensor, &img, 9, avx2)
+                );
             }
         }
         // The comparison can fail: another seed's noise differs.
