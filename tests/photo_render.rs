@@ -1,7 +1,7 @@
 //! The photographic look (README "Photographic look"): goldens of two example scenes, ground
 //! truth that does not depend on the look, shading order of the faces, the crack between
-//! touching blocks, seeded noise and light, and the thesis's 2 x 2 averaging with a camera that
-//! describes the written picture.
+//! touching blocks, seeded noise and light, the thesis's 2 x 2 averaging with a camera that
+//! describes the written picture, and the parts `bench render --photo-parts` times.
 //!
 //! Every test needs an adapter: without one it prints a loud SKIP unless
 //! `BLOCKWORLD_REQUIRE_GPU` is set (`make test` sets it), in which case it fails.
@@ -10,7 +10,7 @@ mod common;
 
 use blockworld::camera::CornerView;
 use blockworld::geom::DVec3;
-use blockworld::render::photo::sensor;
+use blockworld::render::photo::{sensor, PhotoParts, PhotoSetup};
 use blockworld::render::{Look, RenderOptions, RenderedView};
 use blockworld::scene::{read_scene, Block, Scene};
 use common::{compare_golden, renderer, root, Tolerance};
@@ -197,4 +197,66 @@ fn downsampled_views_describe_the_written_picture() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("downsample 3"), "{e}");
+}
+
+#[test]
+fn the_photo_parts_give_render_pixels_whole_view_and_leave_out_what_they_say() {
+    let Some(r) = renderer() else { return };
+    let scene = example("thesis_sample");
+    let mut o = photo();
+    o.seed = 5;
+    let view = CornerView::Ne;
+    let setup = PhotoSetup::new(&scene, view, &o);
+    let whole = r
+        .render_photo_parts(&scene, view, &o, &setup, PhotoParts::ALL)
+        .unwrap();
+    let direct = r.render_pixels(&scene, view, &o).unwrap();
+    assert!(whole.gray == direct.gray, "the bench times the real view");
+    assert!(whole.depth == direct.depth && whole.ids == direct.ids);
+    assert!(direct.ids.iter().any(|&i| i > 0));
+    // Without the sensor and the ground truth: the radiance scaled to 8 bits, blank truth.
+    let raw = PhotoParts {
+        sensor: false,
+        truth: false,
+    };
+    let shaded = r.render_photo_parts(&scene, view, &o, &setup, raw).unwrap();
+    assert!(shaded.depth.iter().all(|&d| d == 0) && shaded.ids.iter().all(|&i| i == 0));
+    assert!(
+        shaded.gray != whole.gray,
+        "no blur, noise, gamma or vignetting"
+    );
+    // Without shadows no pixel is darker, and the blocks' shadows are gone.
+    let bare = r
+        .render_photo_parts(&scene, view, &o, &setup.without_shadows(), raw)
+        .unwrap();
+    let pairs = || bare.gray.iter().zip(shaded.gray.iter());
+    assert_eq!(pairs().filter(|(b, s)| b < s).count(), 0);
+    let lit = pairs().filter(|(b, s)| b > s).count();
+    assert!(lit > 1000, "only {lit} pixels were in shadow");
+}
+
+#[test]
+fn bench_render_photo_parts_prints_a_row_per_size_and_refuses_photo_only_beside_it() {
+    let Some(_) = renderer() else { return };
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
+            .args(["bench", "render", "--iterations", "4", "--blocks", "1,3"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = run(&["--photo-parts"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("| 1 |") || l.starts_with("| 3 |"))
+        .collect();
+    assert_eq!(rows.len(), 2, "{out}");
+    for row in rows {
+        assert_eq!(row.matches('|').count(), 10, "{row}");
+        assert!(row.ends_with(" x |"), "{row}");
+    }
+    let o = run(&["--photo-parts", "--photo-only"]);
+    assert_eq!(o.status.code(), Some(2));
 }

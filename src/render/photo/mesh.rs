@@ -151,6 +151,27 @@ pub struct PhotoMesh {
     pub casters: std::ops::Range<usize>,
 }
 
+impl PhotoMesh {
+    /// The same radiance triangles, all drawn without the shadow test, and no shadow casters:
+    /// the photo view with its shadows taken out, for measuring what they cost
+    /// (`Renderer::render_photo_parts`, README "Photographic look"). The whole faces stay
+    /// behind the parts of them that had the shadow test, so every pixel shows the surface it
+    /// showed, lit as if nothing cast a shadow.
+    pub fn without_shadows(&self) -> PhotoMesh {
+        let mut vertices = self.vertices[self.behind.clone()].to_vec();
+        vertices.extend_from_slice(&self.vertices[self.shadowed.clone()]);
+        vertices.extend_from_slice(&self.vertices[self.unshadowed.clone()]);
+        let (b, n) = (self.behind.len(), vertices.len());
+        PhotoMesh {
+            vertices,
+            shadowed: 0..0,
+            behind: 0..b,
+            unshadowed: b..n,
+            casters: n..n,
+        }
+    }
+}
+
 /// Where [`photo_mesh`] puts a polygon of the render mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Part {
@@ -982,6 +1003,15 @@ mod tests {
 
     /// Whether triangle `t` (its vertices' normal) turns away from direction `dir`, by more
     /// than an f32 normal's rounding (a face seen edge-on does not).
+    /// A cube with another on top, shifted 7.5 mm across `cam`'s key light (`sign` 1: towards
+    /// it, -1: away), and the direction towards that light.
+    fn stacked_across_the_light(cam: &Camera, sign: f64) -> (Scene, DVec3) {
+        let light = key_light(cam, 0.0, 1).towards_light;
+        let shift = sign * DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
+        let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
+        (Scene::new("s", vec![cube(), upper]), light)
+    }
+
     fn turned_away(t: &[PhotoVertex], dir: DVec3) -> bool {
         DVec3::from(t[0].normal.map(f64::from)).dot(dir.normalize()) < -1e-6
     }
@@ -1075,9 +1105,7 @@ mod tests {
         assert_eq!(blocks(&radiance.concat()), blocks(&seen));
         assert!(m.behind.is_empty());
         // A cube on top of another, shifted towards the light: the lower one's top faces it.
-        let shift = DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
-        let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
-        let stack = Scene::new("s", vec![cube(), upper]);
+        let (stack, _) = stacked_across_the_light(&cam, 1.0);
         let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
         let shadowed = &m.vertices[m.shadowed.clone()];
         assert!(shadowed
@@ -1095,12 +1123,9 @@ mod tests {
     #[test]
     fn a_face_partly_within_reach_is_split_and_drawn_whole_behind() {
         let cam = cube_camera(CornerView::Ne);
-        let light = key_light(&cam, 0.0, 1).towards_light;
         // A cube on top of another, shifted away from the light: the lower top's half on the
         // light's side is lit beyond 3 mm from the upper block.
-        let shift = -DVec3::new(light.x, 0.0, light.z).normalize() * 7.5;
-        let upper = Block::new("b15", DVec3::new(0.0, 22.5, 0.0) + shift, 0.0);
-        let stack = Scene::new("s", vec![cube(), upper]);
+        let (stack, light) = stacked_across_the_light(&cam, -1.0);
         let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 3.0);
         let lower_top = |t: &&[PhotoVertex]| t[0].albedo == 0.9 && t[0].normal[1] > 0.99;
         let top_area = |v: &[PhotoVertex]| -> f64 {
@@ -1129,6 +1154,27 @@ mod tests {
         let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 9.0);
         assert!((top_area(&m.vertices[m.shadowed.clone()]) - side * side).abs() < 1e-3);
         assert_eq!(top_area(&m.vertices[m.shadowed.end..]), 0.0);
+    }
+
+    #[test]
+    fn without_shadows_every_seen_triangle_is_drawn_without_the_test_and_nothing_casts() {
+        let cam = cube_camera(CornerView::Ne);
+        let (stack, light) = stacked_across_the_light(&cam, -1.0);
+        let m = photo_mesh(&stack, &cam, &[0.9, 0.8], light, 3.0);
+        assert!(!m.shadowed.is_empty() && !m.behind.is_empty() && !m.casters.is_empty());
+        let bare = m.without_shadows();
+        assert!(bare.shadowed.is_empty() && bare.casters.is_empty());
+        assert_eq!(bare.behind, 0..m.behind.len());
+        assert_eq!(bare.unshadowed, m.behind.len()..bare.vertices.len());
+        // The whole faces first (drawn behind), then the parts that had the shadow test and
+        // the rest, all drawn without it; no caster, as no shadow map is needed.
+        let expected = [
+            &m.vertices[m.behind.clone()],
+            &m.vertices[m.shadowed.clone()],
+            &m.vertices[m.unshadowed.clone()],
+        ]
+        .concat();
+        assert_eq!(bare.vertices, expected);
     }
 
     #[test]

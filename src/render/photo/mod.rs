@@ -105,6 +105,82 @@ impl PhotoOptions {
 /// cost.
 pub const SUPERSAMPLING: u32 = 1;
 
+/// The parts of a photo view besides its radiance that [`Renderer::render_photo_parts`]
+/// runs, so that a benchmark can time the look part by part (`bench render --photo-parts`,
+/// README "Photographic look"); the shadows are left out by the setup
+/// ([`PhotoSetup::without_shadows`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PhotoParts {
+    /// The sensor of thesis Ch. VI ([`SensorModel::expose`]); without it the radiance read
+    /// back is only scaled to 8 bits (255 levels per unit of radiance, clamped).
+    pub sensor: bool,
+    /// The ground-truth draw of the sharp solids; without it depth and ids are left blank (0).
+    pub truth: bool,
+}
+
+impl PhotoParts {
+    /// Every part: the photo view as [`Renderer::render_pixels`] renders it.
+    pub const ALL: PhotoParts = PhotoParts {
+        sensor: true,
+        truth: true,
+    };
+}
+
+/// The CPU side of one photo view: the picture's camera at full size and as written, the key
+/// light and the render mesh ([`mesh::photo_mesh`]); plain data, built without the GPU.
+#[derive(Debug, Clone)]
+pub struct PhotoSetup {
+    full: Camera,
+    written: Camera,
+    light: mesh::KeyLight,
+    mesh: mesh::PhotoMesh,
+}
+
+impl PhotoSetup {
+    /// The setup of `view` of `scene` with `opts` (its light and albedos seeded by
+    /// `opts.seed`), as [`Renderer::render_pixels`] builds it for the photo look.
+    pub fn new(scene: &Scene, view: CornerView, opts: &RenderOptions) -> PhotoSetup {
+        let (full, written) = view_cameras(scene, view, opts);
+        let light = mesh::key_light(&full, opts.photo.light_jitter_deg, opts.seed);
+        let albedos = mesh::block_albedos(scene, opts.photo.block_albedo_range, opts.seed);
+        let reach_mm = BLOCKER_SEARCH_MM + SHADOW_REACH_MARGIN_MM;
+        let mesh = mesh::photo_mesh(scene, &full, &albedos, light.towards_light, reach_mm);
+        PhotoSetup {
+            full,
+            written,
+            light,
+            mesh,
+        }
+    }
+
+    /// The same view with its shadows taken out: no shadow casters, and every radiance
+    /// triangle shaded without the shadow test ([`mesh::PhotoMesh::without_shadows`]).
+    pub fn without_shadows(&self) -> PhotoSetup {
+        PhotoSetup {
+            mesh: self.mesh.without_shadows(),
+            ..self.clone()
+        }
+    }
+
+    /// Triangles of the render mesh the GPU draws (radiance and shadow passes together).
+    pub fn triangles(&self) -> usize {
+        self.mesh.vertices.len() / 3
+    }
+}
+
+/// The camera of `view` at the rendered size, and the camera of the written picture (the
+/// same, or averaged down by `opts.downsample`).
+fn view_cameras(scene: &Scene, view: CornerView, opts: &RenderOptions) -> (Camera, Camera) {
+    let points: Vec<DVec3> = scene
+        .blocks
+        .iter()
+        .flat_map(|b| b.world_vertices())
+        .collect();
+    let full = Camera::frame(&points, view, &opts.camera);
+    let written = full.downsampled(opts.downsample);
+    (full, written)
+}
+
 impl Renderer {
     /// Renders the pixels of one view when the look is photo or the picture is downsampled: the
     /// gray picture at the full size (photo: shaded radiance through the sensor; line art: as
@@ -116,33 +192,48 @@ impl Renderer {
         view: CornerView,
         opts: &RenderOptions,
     ) -> Result<RenderedView, RenderError> {
-        let points: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
-        let full = Camera::frame(&points, view, &opts.camera);
-        let written = full.downsampled(opts.downsample);
+        if opts.look == Look::Photo {
+            let setup = PhotoSetup::new(scene, view, opts);
+            return self.render_photo_parts(scene, view, opts, &setup, PhotoParts::ALL);
+        }
+        let (full, written) = view_cameras(scene, view, opts);
+        let truth = self.draw_sharp(scene, &written, 1)?;
+        let gray = self.draw_sharp(scene, &full, opts.msaa)?.0;
+        Ok(written_view(written, gray, truth, opts, view))
+    }
+
+    /// The photo look of `view` from a prepared `setup` (made with the same `scene` and
+    /// `opts`), running only the given `parts` besides the radiance: for timing the look part
+    /// by part (`bench render --photo-parts`). With [`PhotoParts::ALL`] and
+    /// [`PhotoSetup::new`] it gives the pixels [`Renderer::render_pixels`] gives.
+    pub fn render_photo_parts(
+        &self,
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
+        setup: &PhotoSetup,
+        parts: PhotoParts,
+    ) -> Result<RenderedView, RenderError> {
+        self.check_options(opts)?;
         // The photo view is submitted first and read after the truth's draw, whose wait
         // covers both: one wait per view.
-        let photo = match opts.look {
-            super::Look::LineArt => None,
-            super::Look::Photo => Some(self.submit_photo(scene, &full, opts)?),
+        let pending = self.submit_photo(scene, setup)?;
+        let truth = if parts.truth {
+            self.draw_sharp(scene, &setup.written, 1)?
+        } else {
+            let [w, h] = setup.written.size_px;
+            (
+                GrayImage::new(w, h),
+                Gray16Image::new(w, h),
+                Gray16Image::new(w, h),
+            )
         };
-        let truth = self.draw_sharp(scene, &written, 1)?;
-        let mut gray = match photo {
-            Some(pending) => expose(pending, opts, view)?,
-            None => self.draw_sharp(scene, &full, opts.msaa)?.0,
+        let gray = if parts.sensor {
+            expose(pending, opts, view)?
+        } else {
+            unexposed(pending)?
         };
-        add_sensor_noise(&mut gray, opts.noise_sigma, noise_seed(opts.seed, view));
-        let gray = sensor::downsample(&gray, opts.downsample);
-        Ok(RenderedView {
-            camera: written,
-            gray,
-            depth: truth.1,
-            ids: truth.2,
-            lines: LineDrawing::default(),
-        })
+        Ok(written_view(setup.written, gray, truth, opts, view))
     }
 
     /// The line-art draw of the sharp solids seen by `camera`: gray, depth and ids.
@@ -180,24 +271,40 @@ impl Renderer {
         ))
     }
 
-    /// Submits the photo look's picture at `camera`'s full size: the bevelled, cracked render
+    /// Submits the photo look's picture at the setup's full size: the bevelled, cracked render
     /// mesh shaded on the GPU with the scene's key light and shadow map (the soft shadow test
     /// only where a shadow can reach, [`mesh::photo_mesh`]); [`expose`] reads it back.
     fn submit_photo(
         &self,
         scene: &Scene,
-        camera: &Camera,
-        opts: &RenderOptions,
+        setup: &PhotoSetup,
     ) -> Result<PendingExposure<'_>, RenderError> {
-        let light = mesh::key_light(camera, opts.photo.light_jitter_deg, opts.seed);
-        let albedos = mesh::block_albedos(scene, opts.photo.block_albedo_range, opts.seed);
-        let reach_mm = BLOCKER_SEARCH_MM + SHADOW_REACH_MARGIN_MM;
-        let mesh = mesh::photo_mesh(scene, camera, &albedos, light.towards_light, reach_mm);
-        let uniforms = photo_uniforms(scene, camera, &light);
-        let [w, h] = camera.size_px;
+        let uniforms = photo_uniforms(scene, &setup.full, &setup.light);
+        let [w, h] = setup.full.size_px;
         let size = [w * SUPERSAMPLING, h * SUPERSAMPLING];
-        let pending = self.gpu.submit_photo(&self.photo, &mesh, &uniforms, size)?;
+        let pending = self
+            .gpu
+            .submit_photo(&self.photo, &setup.mesh, &uniforms, size)?;
         Ok(PendingExposure { pending, size })
+    }
+}
+
+/// The written view: sensor noise on `gray` (seeded per scene and view), the 2 x 2 averaging
+/// of `opts.downsample`, and the ground truth drawn at the written size.
+fn written_view(
+    written: Camera,
+    mut gray: GrayImage,
+    truth: (GrayImage, Gray16Image, Gray16Image),
+    opts: &RenderOptions,
+    view: CornerView,
+) -> RenderedView {
+    add_sensor_noise(&mut gray, opts.noise_sigma, noise_seed(opts.seed, view));
+    RenderedView {
+        camera: written,
+        gray: sensor::downsample(&gray, opts.downsample),
+        depth: truth.1,
+        ids: truth.2,
+        lines: LineDrawing::default(),
     }
 }
 
@@ -220,6 +327,23 @@ fn expose(
         .photo
         .sensor
         .expose(&radiance, noise_seed(opts.seed, view) ^ 0x005E_450B))
+}
+
+/// Reads a submitted photo view back without the sensor: its radiance averaged per pixel and
+/// scaled to 8 bits, 255 levels per unit, rounded half up and clamped ([`PhotoParts::sensor`];
+/// a loop the compiler vectorizes, so that this stand-in for the sensor costs next to nothing).
+fn unexposed(photo: PendingExposure<'_>) -> Result<GrayImage, RenderError> {
+    let samples = photo.pending.read()?;
+    let radiance = box_average(samples, photo.size, SUPERSAMPLING);
+    // `max` then `min` (not `clamp`) compile to packed max and min.
+    #[allow(clippy::manual_clamp)]
+    let levels = radiance
+        .values
+        .iter()
+        .map(|r| (r * 255.0 + 0.5).max(0.0).min(255.0) as i32 as u8)
+        .collect();
+    GrayImage::from_raw(radiance.width, radiance.height, levels)
+        .ok_or_else(|| RenderError::Gpu("radiance readback has the wrong size".into()))
 }
 
 /// The shader constants of one photo view: the picture's camera, and an orthographic shadow

@@ -6,7 +6,9 @@
 //! readback + PNG encoding of the three images, and the photo look's render + readback (README
 //! "Photographic look"; a quarter of the iterations) with its ratio to line art's.
 //! `--photo-only` times the photo look alone (after four untimed views), so a profiler such as
-//! callgrind counts nothing else; `--blocks` picks the scene sizes.
+//! callgrind counts nothing else; `--photo-parts` times the photo look part by part (its mesh,
+//! its radiance without shadows, with the ground truth, with the shadows, then the whole view);
+//! `--blocks` picks the scene sizes.
 
 use anyhow::Context;
 use blockworld::camera::CornerView;
@@ -32,8 +34,14 @@ pub struct Args {
     pub blocks: Vec<usize>,
     /// Time only the photo look: four untimed views, then a quarter of `--iterations` timed
     /// (for profiling it alone, e.g. `valgrind --tool=callgrind`).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "photo_parts")]
     pub photo_only: bool,
+    /// Time the photo look part by part against line art (README "Photographic look"): the
+    /// render mesh alone (CPU), the radiance without shadows or sensor, that plus the
+    /// ground-truth draw, plus the shadows, and the whole view; a quarter of `--iterations`
+    /// each.
+    #[arg(long)]
+    pub photo_parts: bool,
 }
 
 /// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
@@ -75,6 +83,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.photo_only {
         outln!("| blocks | photo look: render + readback |")?;
         outln!("|---|---|")?;
+    } else if args.photo_parts {
+        outln!("| blocks | line art: render + readback | photo mesh (CPU; triangles) | radiance without shadows or sensor | + ground truth | + shadows | the photo view (+ sensor and mesh) | mesh + radiance + ground truth / line art | photo / line art |")?;
+        outln!("|---|---|---|---|---|---|---|---|---|")?;
     } else {
         outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
         outln!("|---|---|---|---|---|---|---|")?;
@@ -87,6 +98,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if args.photo_only {
             let photo_pixels = time_photo(&renderer, &scene, &photo, iterations)?;
             outln!("| {n} | {} |", photo_pixels.show())?;
+            continue;
+        }
+        if args.photo_parts {
+            outln!(
+                "{}",
+                photo_parts_row(&renderer, &scene, &opts, &photo, iterations)?
+            )?;
             continue;
         }
         for k in 0..32 {
@@ -139,12 +157,75 @@ fn time_photo(
     photo: &RenderOptions,
     iterations: usize,
 ) -> anyhow::Result<Timing> {
-    for k in 0..4 {
-        renderer.render_pixels(scene, CornerView::ALL[k % 4], photo)?;
-    }
-    time_views(iterations.div_ceil(4).max(4), |view| {
+    time_warm(iterations.div_ceil(4).max(4), |view| {
         renderer.render_pixels(scene, view, photo).map(|_| ())
     })
+}
+
+/// One row of `--photo-parts`: line art's view, then the photo look's parts, each timed over
+/// a quarter of `iterations` (at least four) after four untimed views; the mesh and setups of
+/// the four views are built before the parts that take them are timed.
+fn photo_parts_row(
+    renderer: &Renderer,
+    scene: &Scene,
+    line_art: &RenderOptions,
+    photo: &RenderOptions,
+    iterations: usize,
+) -> anyhow::Result<String> {
+    use blockworld::render::photo::{PhotoParts, PhotoSetup};
+    let quarter = iterations.div_ceil(4).max(4);
+    let line = time_warm(quarter, |view| {
+        renderer.render_pixels(scene, view, line_art).map(|_| ())
+    })?;
+    let setups = CornerView::ALL.map(|v| PhotoSetup::new(scene, v, photo));
+    let bare = setups.clone().map(|s| s.without_shadows());
+    let at = |view: CornerView| CornerView::ALL.iter().position(|&v| v == view).unwrap_or(0);
+    let mesh = time_warm(quarter, |view| {
+        std::hint::black_box(PhotoSetup::new(scene, view, photo));
+        Ok(())
+    })?;
+    let part = |setups: &[PhotoSetup; 4], truth: bool| {
+        let parts = PhotoParts {
+            sensor: false,
+            truth,
+        };
+        time_warm(quarter, |view| {
+            renderer
+                .render_photo_parts(scene, view, photo, &setups[at(view)], parts)
+                .map(|_| ())
+        })
+    };
+    let radiance = part(&bare, false)?;
+    let truth = part(&bare, true)?;
+    let shadows = part(&setups, true)?;
+    let whole = time_warm(quarter, |view| {
+        renderer.render_pixels(scene, view, photo).map(|_| ())
+    })?;
+    let triangles = setups.iter().map(PhotoSetup::triangles).sum::<usize>() / 4;
+    let per_line = |t: Duration| ms(t) / ms(line.median).max(1e-9);
+    Ok(format!(
+        "| {} | {} | {} ({triangles}) | {} | {} | {} | {} | {:.1} x | {:.1} x |",
+        scene.blocks.len(),
+        line.show(),
+        mesh.show(),
+        radiance.show(),
+        truth.show(),
+        shadows.show(),
+        whole.show(),
+        per_line(mesh.median + truth.median),
+        per_line(whole.median),
+    ))
+}
+
+/// [`time_views`] after four untimed calls (one per corner view).
+fn time_warm(
+    iterations: usize,
+    mut f: impl FnMut(CornerView) -> Result<(), blockworld::render::RenderError>,
+) -> anyhow::Result<Timing> {
+    for view in CornerView::ALL {
+        f(view)?;
+    }
+    time_views(iterations, f)
 }
 
 /// Median and mean wall time per view, and the process's CPU time per view (all threads,
