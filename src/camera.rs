@@ -47,6 +47,17 @@ impl CornerView {
         CornerView::Nw,
     ];
 
+    /// Position in [`CornerView::ALL`] (`ne` 0 to `nw` 3): what per-view seeds and
+    /// per-view tables index by.
+    pub fn index(self) -> usize {
+        match self {
+            CornerView::Ne => 0,
+            CornerView::Se => 1,
+            CornerView::Sw => 2,
+            CornerView::Nw => 3,
+        }
+    }
+
     /// Compass bearing of the camera from the scene, degrees clockwise from north.
     pub fn azimuth_deg(self) -> f64 {
         match self {
@@ -376,6 +387,14 @@ mod tests {
             ));
         }
         v
+    }
+
+    #[test]
+    fn each_view_indexes_its_place_in_all_and_parses_back_from_its_name() {
+        for (k, view) in CornerView::ALL.into_iter().enumerate() {
+            assert_eq!(view.index(), k, "{view:?}");
+            assert_eq!(CornerView::parse(view.name()), Some(view));
+        }
     }
 
     #[test]

@@ -412,7 +412,7 @@ fn rendered_view(
 /// The noise seed of one view: the options' seed mixed with the view, so the four views get
 /// different but reproducible noise.
 fn noise_seed(seed: u64, view: CornerView) -> u64 {
-    let v = CornerView::ALL.iter().position(|c| *c == view).unwrap_or(0) as u64;
+    let v = view.index() as u64;
     seed ^ (v + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 

@@ -111,8 +111,9 @@ pub const SUPERSAMPLING: u32 = 1;
 /// ([`PhotoSetup::without_shadows`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PhotoParts {
-    /// The sensor of thesis Ch. VI ([`SensorModel::expose`]); without it the radiance read
-    /// back is only scaled to 8 bits (255 levels per unit of radiance, clamped).
+    /// The sensor of thesis Ch. VI ([`SensorModel::expose`], its noise seeded per scene and
+    /// view); without it the radiance read back is only quantized to 8 bits
+    /// ([`sensor::quantize`] with gamma 1).
     pub sensor: bool,
     /// The ground-truth draw of the sharp solids; without it depth and ids are left blank (0).
     pub truth: bool,
@@ -228,10 +229,12 @@ impl Renderer {
                 Gray16Image::new(w, h),
             )
         };
+        let radiance = pending.radiance()?;
         let gray = if parts.sensor {
-            expose(pending, opts, view)?
+            let seed = noise_seed(opts.seed, view) ^ 0x005E_450B;
+            opts.photo.sensor.expose(&radiance, seed)
         } else {
-            unexposed(pending)?
+            sensor::quantize(&radiance, 1.0)
         };
         Ok(written_view(setup.written, gray, truth, opts, view))
     }
@@ -273,7 +276,8 @@ impl Renderer {
 
     /// Submits the photo look's picture at the setup's full size: the bevelled, cracked render
     /// mesh shaded on the GPU with the scene's key light and shadow map (the soft shadow test
-    /// only where a shadow can reach, [`mesh::photo_mesh`]); [`expose`] reads it back.
+    /// only where a shadow can reach, [`mesh::photo_mesh`]); [`PendingExposure::radiance`] reads
+    /// it back.
     fn submit_photo(
         &self,
         scene: &Scene,
@@ -314,36 +318,13 @@ struct PendingExposure<'a> {
     size: [u32; 2],
 }
 
-/// Reads a submitted photo view back, averages its `SUPERSAMPLING`^2 samples per pixel and
-/// exposes it on the sensor (noise seeded per scene and view).
-fn expose(
-    photo: PendingExposure<'_>,
-    opts: &RenderOptions,
-    view: CornerView,
-) -> Result<GrayImage, RenderError> {
-    let samples = photo.pending.read()?;
-    let radiance = box_average(samples, photo.size, SUPERSAMPLING);
-    Ok(opts
-        .photo
-        .sensor
-        .expose(&radiance, noise_seed(opts.seed, view) ^ 0x005E_450B))
-}
-
-/// Reads a submitted photo view back without the sensor: its radiance averaged per pixel and
-/// scaled to 8 bits, 255 levels per unit, rounded half up and clamped ([`PhotoParts::sensor`];
-/// a loop the compiler vectorizes, so that this stand-in for the sensor costs next to nothing).
-fn unexposed(photo: PendingExposure<'_>) -> Result<GrayImage, RenderError> {
-    let samples = photo.pending.read()?;
-    let radiance = box_average(samples, photo.size, SUPERSAMPLING);
-    // `max` then `min` (not `clamp`) compile to packed max and min.
-    #[allow(clippy::manual_clamp)]
-    let levels = radiance
-        .values
-        .iter()
-        .map(|r| (r * 255.0 + 0.5).max(0.0).min(255.0) as i32 as u8)
-        .collect();
-    GrayImage::from_raw(radiance.width, radiance.height, levels)
-        .ok_or_else(|| RenderError::Gpu("radiance readback has the wrong size".into()))
+impl PendingExposure<'_> {
+    /// Waits for the view and reads its radiance back, its `SUPERSAMPLING`^2 samples per
+    /// pixel averaged.
+    fn radiance(self) -> Result<RadianceImage, RenderError> {
+        let samples = self.pending.read()?;
+        Ok(box_average(samples, self.size, SUPERSAMPLING))
+    }
 }
 
 /// The shader constants of one photo view: the picture's camera, and an orthographic shadow

@@ -179,7 +179,6 @@ fn photo_parts_row(
     })?;
     let setups = CornerView::ALL.map(|v| PhotoSetup::new(scene, v, photo));
     let bare = setups.clone().map(|s| s.without_shadows());
-    let at = |view: CornerView| CornerView::ALL.iter().position(|&v| v == view).unwrap_or(0);
     let mesh = time_warm(quarter, |view| {
         std::hint::black_box(PhotoSetup::new(scene, view, photo));
         Ok(())
@@ -191,16 +190,14 @@ fn photo_parts_row(
         };
         time_warm(quarter, |view| {
             renderer
-                .render_photo_parts(scene, view, photo, &setups[at(view)], parts)
+                .render_photo_parts(scene, view, photo, &setups[view.index()], parts)
                 .map(|_| ())
         })
     };
     let radiance = part(&bare, false)?;
     let truth = part(&bare, true)?;
     let shadows = part(&setups, true)?;
-    let whole = time_warm(quarter, |view| {
-        renderer.render_pixels(scene, view, photo).map(|_| ())
-    })?;
+    let whole = time_photo(renderer, scene, photo, iterations)?;
     let triangles = setups.iter().map(PhotoSetup::triangles).sum::<usize>() / 4;
     let per_line = |t: Duration| ms(t) / ms(line.median).max(1e-9);
     Ok(format!(
