@@ -12,8 +12,12 @@ SLURM_PKGS := slurm-wlm munge
 # kubernetes-validate (PyPI, bundles the Kubernetes schemas) for scripts/k8s_generate_job.yaml.
 K8S_VALIDATE_VERSION := 1.37.0
 K8S_VALIDATE_DIR := target/kubernetes-validate
+# Blender as a Python module (PyPI bpy, about 860 MB installed) for the yardstick of
+# docs/yardstick.md; only `make blender` installs it, never `make test`.
+BLENDER_BPY_VERSION := 4.2.23
+BLENDER_VENV := target/blender-venv
 
-.PHONY: setup demo test lint ci bless slurm-up slurm-down
+.PHONY: setup demo test lint ci bless slurm-up slurm-down blender
 
 # Installs the Vulkan loader and lavapipe only when absent (needs root, as on this machine kind).
 setup:
@@ -91,3 +95,14 @@ ci: lint test
 # Re-bless golden images and scores on purpose; review the diff before committing.
 bless: setup
 	BLESS=1 $(CARGO) test --all-targets
+
+# The venv of bench/blender/render_dataset.py (docs/yardstick.md "Install"): Python 3.11 with
+# bpy==$(BLENDER_BPY_VERSION) (numpy comes with it). Opt-in: nothing else needs it.
+blender:
+	@if ! $(BLENDER_VENV)/bin/python -c "import bpy, numpy" >/dev/null 2>&1; then \
+		echo "installing bpy==$(BLENDER_BPY_VERSION) into $(BLENDER_VENV) (about 860 MB)"; \
+		python3 -m venv $(BLENDER_VENV) && \
+		$(BLENDER_VENV)/bin/pip install --quiet --disable-pip-version-check \
+			bpy==$(BLENDER_BPY_VERSION); \
+	fi
+	@$(BLENDER_VENV)/bin/python -c "import bpy; print('Blender', bpy.app.version_string, 'in $(BLENDER_VENV)')"
