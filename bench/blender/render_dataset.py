@@ -17,7 +17,7 @@ Engines (docs/yardstick.md "The setting"):
 A scene with a `look.json` (docs/varied-look.md) is drawn in its varied look instead under
 Cycles: its lights, ambient, albedos, rounding, gloss and exposure.
 
-One Blender process draws all scenes; a scene whose views all exist is kept (re-running resumes).
+One Blender process draws all scenes; a view whose picture exists is kept (re-running resumes).
 Each picture is written to a temporary name and renamed, so no half-written PNG is left.
 
 `--check-registration` draws every view of the first scenes with one flat colour per block face
@@ -417,13 +417,14 @@ def render_all(args, names):
             continue
         copy_truth(src, dst, args.views)
         place_blocks(stage, blocks, args.bevel_mm, face_colours=False)
-        for v, picture in zip(args.views, pictures):
+        todo = [(v, p) for v, p in zip(args.views, pictures) if not os.path.isfile(p)]
+        for v, picture in todo:
             aim_camera(stage, cams[v])
             t = time.perf_counter()
             render_to(stage["scene"], picture)
             seconds.append(time.perf_counter() - t)
-        print(f"[{k + 1}/{len(names)}] {name}: {len(blocks)} blocks, "
-              f"{np.mean(seconds[-len(args.views):]):.2f} s per view", flush=True)
+        print(f"[{k + 1}/{len(names)}] {name}: {len(blocks)} blocks, {len(todo)} views, "
+              f"{np.mean(seconds[-len(todo):]):.2f} s per view", flush=True)
     write_settings(args, names, seconds, time.time() - started)
     return 0
 

@@ -58,10 +58,18 @@ pub struct Args {
     /// How many scenes `--family` draws.
     #[arg(long, default_value_t = 48)]
     pub count: u64,
+    /// Recognize pictures someone else drew, laid out as a dataset (per scene `scene.json`, and
+    /// `view_<v>.png` beside `camera_<v>.json`), beside blockworld's own looks of the same
+    /// scenes (docs/yardstick.md "The bench").
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["recognizer", "families", "make_reference", "from_truth", "golden"])]
+    pub pictures: Option<PathBuf>,
 }
 
 /// Runs `blockworld bench accuracy`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(dir) = &args.pictures {
+        return super::pictures::run(&args, dir);
+    }
     let suite = if args.families.is_empty() {
         read_suite(&args.suite)?
     } else {
@@ -303,7 +311,7 @@ fn gate(golden_path: &Path, results: &[SceneResult]) -> anyhow::Result<()> {
 }
 
 /// The per-family table.
-fn family_table(rows: &[FamilySummary]) -> String {
+pub(super) fn family_table(rows: &[FamilySummary]) -> String {
     let mut t = String::from(
         "| family | scenes | mean IoU | exact | declined | confidently wrong | expected failures |\n|---|---|---|---|---|---|---|\n",
     );

@@ -6,6 +6,7 @@ mod export_dataset;
 mod generate;
 pub mod machine;
 mod peers;
+mod pictures;
 mod recognize;
 mod render;
 mod scale;

@@ -1,0 +1,384 @@
+//! `blockworld bench accuracy --pictures DIR`: the recognizer on pictures someone else drew
+//! (docs/yardstick.md). DIR is laid out as a dataset: per scene a folder with `scene.json` (the
+//! truth), and per view `view_<v>.png` beside the `camera_<v>.json` it was drawn through, as
+//! `bench/blender/render_dataset.py` writes it. Every scene is recognized from those pictures
+//! alone (vision front end, then the modified Kanade recognizer with its picture-aware check)
+//! and scored; in the same run blockworld draws the same scenes through the same cameras in its
+//! line art and its photo look, so the figures stand side by side on the same scenes.
+
+use super::accuracy::Args;
+use crate::cli::files::{read_camera, read_picture};
+use anyhow::{bail, Context};
+use blockworld::camera::{Camera, CornerView};
+use blockworld::csg::reconstruction;
+use blockworld::pipeline::{run_suite, DrawingSource, PipelineOptions};
+use blockworld::recognize::{recognize_in_pictures, ObservedView, RecognizeOptions};
+use blockworld::render::{Look, RenderOptions, Renderer};
+use blockworld::scene::{read_scene, Scene};
+use blockworld::score::{
+    score_suite_scene, summarize_by_family, NoReconstruction, SceneResult, ScoreOptions, Verdict,
+};
+use blockworld::vision::{detect_line_drawing, VisionOptions};
+use glam::DVec3;
+use image::GrayImage;
+use std::path::{Path, PathBuf};
+
+/// Largest difference between a camera file's matrix entry and blockworld's own camera for the
+/// same scene and view: the files are written with 17 significant digits, so the two agree far
+/// closer than this when the view options match.
+const CAMERA_TOL: f64 = 1e-9;
+
+/// One scene of the pictures' folder: its id, truth and the folder holding its views.
+struct PictureScene {
+    id: String,
+    truth: Scene,
+    folder: PathBuf,
+}
+
+/// One way of drawing the scenes and its results.
+struct Source {
+    name: String,
+    results: Vec<SceneResult>,
+}
+
+/// Runs `bench accuracy --pictures DIR` (see the module doc).
+pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
+    let views = args.view.corner_views()?;
+    if views.is_empty() {
+        bail!("--views: no view given; name one or more of ne, se, sw, nw");
+    }
+    let render = args.view.render_options()?;
+    let scenes = read_picture_scenes(dir, &views)?;
+    for s in &scenes {
+        check_cameras(s, &views, &render)?;
+    }
+    let name = dir.display().to_string();
+    let pictured = crate::cli::progress::with_progress(
+        "bench accuracy --pictures",
+        "scenes",
+        scenes.len() as u64,
+        |p| {
+            let mut out = Vec::new();
+            for (k, s) in scenes.iter().enumerate() {
+                out.push(recognize_pictures(s, &views));
+                p(k as u64 + 1, scenes.len() as u64);
+            }
+            out
+        },
+    );
+    let renderer = Renderer::new(args.view.backend()?).context("starting the renderer")?;
+    print!("{}", super::machine::banner(Some(&renderer)));
+    let suite: Vec<(String, Scene)> = scenes
+        .iter()
+        .map(|s| (s.id.clone(), s.truth.clone()))
+        .collect();
+    let mut sources = vec![Source {
+        name,
+        results: pictured,
+    }];
+    for (look, label) in [
+        (Look::LineArt, "blockworld line art"),
+        (Look::Photo, "blockworld photo look"),
+    ] {
+        let opts = PipelineOptions {
+            render: RenderOptions { look, ..render },
+            views: views.clone(),
+            source: DrawingSource::Pictures(VisionOptions::default()),
+            ..PipelineOptions::default()
+        };
+        let runs = run_suite(&renderer, &suite, &opts);
+        sources.push(Source {
+            name: label.to_string(),
+            results: runs.into_iter().map(|r| r.result).collect(),
+        });
+    }
+    print!("{}", side_by_side(&sources));
+    print!(
+        "{}",
+        super::accuracy::family_table(&summarize_by_family(&sources[0].results))
+    );
+    write_report(args, dir, &views, &sources)
+}
+
+/// The scene folders of `dir` that hold `scene.json`, sorted by id, each checked to hold every
+/// view's picture and camera.
+fn read_picture_scenes(dir: &Path, views: &[CornerView]) -> anyhow::Result<Vec<PictureScene>> {
+    let entries = std::fs::read_dir(dir).with_context(|| {
+        format!(
+            "--pictures {}: not a folder; give the output of bench/blender/render_dataset.py",
+            dir.display()
+        )
+    })?;
+    let mut folders: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join("scene.json").is_file())
+        .collect();
+    folders.sort();
+    if folders.is_empty() {
+        bail!(
+            "--pictures {}: no scene folders with scene.json; lay it out as a dataset (docs/yardstick.md \"The bench\")",
+            dir.display()
+        );
+    }
+    folders
+        .into_iter()
+        .map(|folder| {
+            for v in views {
+                for file in [format!("view_{}.png", v.name()), format!("camera_{}.json", v.name())] {
+                    if !folder.join(&file).is_file() {
+                        bail!(
+                            "{}: missing; every scene needs each view's picture and camera (finish the render, or drop {} from --views)",
+                            folder.join(file).display(),
+                            v.name()
+                        );
+                    }
+                }
+            }
+            let id = folder.file_name().unwrap_or_default().to_string_lossy().into_owned();
+            let truth = read_scene(&folder.join("scene.json"))?;
+            Ok(PictureScene { id, truth, folder })
+        })
+        .collect()
+}
+
+/// Fails unless every camera file is the camera blockworld frames for the scene with the view
+/// options given: only then are blockworld's own looks drawn through the same cameras.
+fn check_cameras(
+    s: &PictureScene,
+    views: &[CornerView],
+    render: &RenderOptions,
+) -> anyhow::Result<()> {
+    let points: Vec<DVec3> = s
+        .truth
+        .blocks
+        .iter()
+        .flat_map(|b| b.world_vertices())
+        .collect();
+    for &v in views {
+        let path = s.folder.join(format!("camera_{}.json", v.name()));
+        let file = read_camera(&path)?;
+        let ours = Camera::frame(&points, v, &render.camera);
+        let differs = file
+            .view_from_world
+            .iter()
+            .chain(&file.clip_from_view)
+            .zip(ours.view_from_world.iter().chain(&ours.clip_from_view))
+            .any(|(a, b)| (a - b).abs() > CAMERA_TOL * a.abs().max(1.0));
+        if differs || file.size_px != ours.size_px {
+            bail!(
+                "{}: not the camera blockworld frames for this scene with these view options; pass the options the dataset was generated with (its dataset.json \"render\": --projection, --fov, --size, --elevation, --pixel-aspect)",
+                path.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Recognizes one scene from its pictures and scores it; an unreadable picture or a vision or
+/// recognizer error is a `failed` result with the reason.
+fn recognize_pictures(s: &PictureScene, views: &[CornerView]) -> SceneResult {
+    let answer = observe_pictures(s, views).and_then(|(observed, pictures)| {
+        let pictures: Vec<&GrayImage> = pictures.iter().collect();
+        let recognition = recognize_in_pictures(&observed, &pictures, &RecognizeOptions::default())
+            .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
+        Ok(reconstruction(
+            &s.truth.name,
+            &recognition,
+            PipelineOptions::default().layer_tol_mm,
+        ))
+    });
+    score_suite_scene(
+        &s.id,
+        &s.truth,
+        answer.as_ref().map_err(Clone::clone),
+        &ScoreOptions::default(),
+    )
+}
+
+/// Each view's drawing read from its picture by the vision front end, with the pictures.
+fn observe_pictures(
+    s: &PictureScene,
+    views: &[CornerView],
+) -> Result<(Vec<ObservedView>, Vec<GrayImage>), NoReconstruction> {
+    let mut observed = Vec::new();
+    let mut pictures = Vec::new();
+    for v in views {
+        let camera = read_camera(&s.folder.join(format!("camera_{}.json", v.name())))
+            .map_err(|e| NoReconstruction(format!("{e:#}")))?;
+        let picture = read_picture(&s.folder.join(format!("view_{}.png", v.name())))
+            .map_err(|e| NoReconstruction(format!("{e:#}")))?;
+        let drawing = detect_line_drawing(&picture, &camera, &VisionOptions::default())
+            .map_err(|e| NoReconstruction(format!("vision {}: {e}", v.name())))?
+            .drawing;
+        observed.push(ObservedView { drawing, camera });
+        pictures.push(picture);
+    }
+    Ok((observed, pictures))
+}
+
+/// Exact, declined and confidently wrong of each source over the supported scenes, and over
+/// all scenes.
+fn side_by_side(sources: &[Source]) -> String {
+    let mut t = String::from(
+        "| pictures | supported scenes | exact | declined | confidently wrong | other | all scenes exact |\n|---|---|---|---|---|---|---|\n",
+    );
+    for s in sources {
+        let supported: Vec<&SceneResult> = s.results.iter().filter(|r| r.supported).collect();
+        let n = supported.len();
+        let count = |f: &dyn Fn(&SceneResult) -> bool| supported.iter().filter(|r| f(r)).count();
+        let exact = count(&|r| r.verdict == Verdict::Exact);
+        let declined = count(&|r| r.verdict == Verdict::Unsupported);
+        let wrong = count(&|r| r.confidently_wrong);
+        let all_exact = s
+            .results
+            .iter()
+            .filter(|r| r.verdict == Verdict::Exact)
+            .count();
+        t.push_str(&format!(
+            "| {} | {n} | {exact} ({}) | {declined} ({}) | {wrong} ({}) | {} | {all_exact} of {} |\n",
+            s.name,
+            percent(exact, n),
+            percent(declined, n),
+            percent(wrong, n),
+            n - exact - declined - wrong,
+            s.results.len()
+        ));
+    }
+    t
+}
+
+fn percent(part: usize, whole: usize) -> String {
+    format!("{:.0}%", 100.0 * part as f64 / whole.max(1) as f64)
+}
+
+/// Writes every source's per-scene results to `--json-out`.
+fn write_report(
+    args: &Args,
+    dir: &Path,
+    views: &[CornerView],
+    sources: &[Source],
+) -> anyhow::Result<()> {
+    let report = serde_json::json!({
+        "pictures": dir.display().to_string(),
+        "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
+        "sources": sources.iter().map(|s| serde_json::json!({
+            "name": s.name,
+            "families": summarize_by_family(&s.results),
+            "scenes": s.results,
+        })).collect::<Vec<_>>(),
+    });
+    if let Some(parent) = args.json_out.parent() {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("creating {}", parent.display()))?;
+    }
+    blockworld::io::write_atomic(
+        &args.json_out,
+        blockworld::io::pretty_json(&report).as_bytes(),
+    )
+    .with_context(|| format!("writing {}", args.json_out.display()))?;
+    println!("per-scene results: {}", args.json_out.display());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blockworld::camera::{camera_json, Projection};
+    use blockworld::scene::{write_scene, Block};
+
+    /// A one-block scene folder with the ne camera framed by `projection` (no picture yet).
+    fn scene_folder(root: &Path, projection: Projection) -> (PathBuf, Scene) {
+        let folder = root.join("s000000");
+        std::fs::create_dir_all(&folder).unwrap();
+        let scene = Scene::new(
+            "s000000",
+            vec![Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0)],
+        );
+        write_scene(&folder.join("scene.json"), &scene).unwrap();
+        let mut render = RenderOptions::default();
+        render.camera.projection = projection;
+        let points: Vec<DVec3> = scene
+            .blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .collect();
+        let camera = Camera::frame(&points, CornerView::Ne, &render.camera);
+        std::fs::write(folder.join("camera_ne.json"), camera_json(&camera)).unwrap();
+        (folder, scene)
+    }
+
+    #[test]
+    fn a_missing_picture_is_named_with_the_fix() {
+        let dir = tempfile::tempdir().unwrap();
+        let (folder, _) = scene_folder(dir.path(), Projection::Orthographic);
+        let e = read_picture_scenes(dir.path(), &[CornerView::Ne])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("view_ne.png: missing") && e.contains("--views"),
+            "{e}"
+        );
+        image::GrayImage::new(4, 4)
+            .save(folder.join("view_ne.png"))
+            .unwrap();
+        let scenes = read_picture_scenes(dir.path(), &[CornerView::Ne]).unwrap();
+        assert_eq!(scenes.len(), 1);
+        assert_eq!(scenes[0].id, "s000000");
+    }
+
+    #[test]
+    fn cameras_of_other_view_options_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let (folder, truth) = scene_folder(dir.path(), Projection::Perspective { fov_y_deg: 30.0 });
+        let s = PictureScene {
+            id: "s000000".into(),
+            truth,
+            folder,
+        };
+        let orthographic = RenderOptions::default();
+        let e = check_cameras(&s, &[CornerView::Ne], &orthographic)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("camera_ne.json") && e.contains("--projection"),
+            "{e}"
+        );
+        let mut perspective = RenderOptions::default();
+        perspective.camera.projection = Projection::Perspective { fov_y_deg: 30.0 };
+        check_cameras(&s, &[CornerView::Ne], &perspective).unwrap();
+    }
+
+    #[test]
+    fn side_by_side_counts_supported_scenes_only() {
+        let result = |id: &str, supported: bool, verdict: Verdict, wrong: bool| SceneResult {
+            id: id.into(),
+            family: "row".into(),
+            supported,
+            verdict,
+            iou: 0.0,
+            f1: 0.0,
+            mean_center_error_mm: None,
+            layers_right: false,
+            flagged: false,
+            unexpected_pass: false,
+            confidently_wrong: wrong,
+            note: None,
+        };
+        let source = Source {
+            name: "p".into(),
+            results: vec![
+                result("a", true, Verdict::Exact, false),
+                result("b", true, Verdict::Unsupported, false),
+                result("c", true, Verdict::Partial, true),
+                result("d", false, Verdict::Exact, false),
+            ],
+        };
+        let t = side_by_side(&[source]);
+        assert!(
+            t.contains("| p | 3 | 1 (33%) | 1 (33%) | 1 (33%) | 0 | 2 of 4 |"),
+            "{t}"
+        );
+    }
+}
