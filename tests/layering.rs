@@ -17,7 +17,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("linedraw", &["scene", "drawing", "camera", "geom"]),
     (
         "render",
-        &["scene", "drawing", "linedraw", "camera", "geom"],
+        &["scene", "drawing", "linedraw", "camera", "geom", "io"],
     ),
     ("output", &["render", "drawing", "camera", "io", "geom"]),
     ("vision", &["drawing", "camera", "geom"]),
