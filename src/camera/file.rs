@@ -168,7 +168,7 @@ fn check_rigid(c: &Camera) -> Result<(), CameraError> {
         .to_cols_array()
         .iter()
         .fold((r.determinant() - 1.0).abs(), |a, x| a.max(x.abs()));
-    if !(off <= RIGID_TOLERANCE) {
+    if off.is_nan() || off > RIGID_TOLERANCE {
         return Err(degenerate(
             "view_from_world",
             format!(
