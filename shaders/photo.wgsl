@@ -1,5 +1,5 @@
 // blockworld photographic look (docs/rendering.md "Photographic look"): linear radiance of a bevelled,
-// cracked render mesh (src/render/photo/mesh.rs) under a key light with a shadow map plus
+// cracked render mesh (src/render/photo/mesh/mod.rs) under a key light with a shadow map plus
 // ambient, no drawn ink. The sensor (blur, noise, gamma, quantization) runs on the CPU.
 
 struct Photo {
@@ -141,7 +141,7 @@ fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
     return vec4<f32>(radiance, 0.0, 0.0, 1.0);
 }
 
-// Radiance of a surface the key light's shadow cannot reach (src/render/photo/mesh.rs,
+// Radiance of a surface the key light's shadow cannot reach (src/render/photo/mesh/mod.rs,
 // PhotoMesh): faces turned away from the light (ambient only), the black crack sheets, and the
 // floor outside the shadow camera's frame. The same radiance fs_photo gives there.
 @fragment

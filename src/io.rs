@@ -34,8 +34,57 @@ pub enum FileSync {
     Verified,
 }
 
-/// [`write_atomic`] with the sync chosen by `sync`.
+/// What an output path names before anything is written to it (docs/limits.md "Outputs").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputTarget {
+    /// Nothing yet, or a regular file: written to a temporary name and renamed into place.
+    File,
+    /// A character device or a FIFO (`/dev/null`, `/dev/stdout`, a named pipe): written
+    /// through, never renamed over, so `-o /dev/null` discards the output.
+    Stream,
+}
+
+/// Checks that `path` may take an output file: a regular file or nothing is replaced
+/// atomically, a character device or FIFO is written through, and a directory, block device
+/// or socket is refused with an `InvalidInput` error saying why. Every file blockworld writes
+/// goes through this check (in [`write_atomic_with`]).
+pub fn check_output_path(path: &Path) -> std::io::Result<OutputTarget> {
+    let refuse = |what: &str| {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("is {what}, not a file; give a file name"),
+        ))
+    };
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(OutputTarget::File);
+    };
+    let kind = meta.file_type();
+    if kind.is_file() {
+        return Ok(OutputTarget::File);
+    }
+    if kind.is_dir() {
+        return refuse("a directory");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_char_device() || kind.is_fifo() {
+            return Ok(OutputTarget::Stream);
+        }
+        if kind.is_block_device() {
+            return refuse("a block device");
+        }
+    }
+    refuse("a socket or other special file")
+}
+
+/// [`write_atomic`] with the sync chosen by `sync`. A character device or FIFO is written
+/// through and a directory refused ([`check_output_path`]).
 pub fn write_atomic_with(path: &Path, bytes: &[u8], sync: FileSync) -> std::io::Result<()> {
+    if check_output_path(path)? == OutputTarget::Stream {
+        let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
+        return f.write_all(bytes).and_then(|()| f.flush());
+    }
     let tmp = temp_path(path);
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -157,6 +206,31 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         let missing = dir.path().join("no/such/dir/a.txt");
         assert!(write_atomic(&missing, b"x").is_err());
+    }
+
+    #[test]
+    fn a_fifo_is_written_through_and_a_directory_refused() {
+        // A rename over a FIFO or device node (`-o /dev/null`) would replace it by a regular
+        // file; the bytes must go through it instead.
+        use std::os::unix::fs::FileTypeExt;
+        let null = Path::new("/dev/null");
+        assert_eq!(check_output_path(null).unwrap(), OutputTarget::Stream);
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.unwrap().success());
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(fifo).unwrap())
+        };
+        write_atomic(&fifo, b"through").unwrap();
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        assert_eq!(reader.join().unwrap(), b"through");
+        let err = write_atomic(dir.path(), b"x").unwrap_err().to_string();
+        assert!(err.contains("is a directory"), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        let new = dir.path().join("new.json");
+        assert_eq!(check_output_path(&new).unwrap(), OutputTarget::File);
     }
 
     #[test]

@@ -44,3 +44,33 @@ pub fn read_scene_shown(path: &Path) -> Result<Scene, SceneError> {
         read_scene_with_progress(path, p)
     })
 }
+
+/// The one output-path check of every command that writes a file, run before any work
+/// (docs/limits.md "Outputs"): a directory where a file is meant is refused, a device node or
+/// FIFO is written through (`blockworld::io::check_output_path`), and an output that is one of
+/// the command's `inputs` (the same file, by device and inode) is refused, since writing it
+/// would replace the input the command reads.
+pub fn check_output(output: &Path, inputs: &[&Path]) -> anyhow::Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let target = blockworld::io::check_output_path(output)
+        .with_context(|| format!("output {}", output.display()))?;
+    if target == blockworld::io::OutputTarget::Stream {
+        return Ok(());
+    }
+    let Ok(out) = std::fs::metadata(output) else {
+        return Ok(());
+    };
+    for input in inputs {
+        let same =
+            std::fs::metadata(input).is_ok_and(|m| (m.dev(), m.ino()) == (out.dev(), out.ino()));
+        if same {
+            anyhow::bail!(
+                "output {} is the input {}: writing it would replace what is read; give another \
+                 output name",
+                output.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}

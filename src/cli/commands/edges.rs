@@ -34,6 +34,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for p in args.output.iter().chain(&args.magnitude) {
         require_png_name(p)?;
     }
+    let out = args
+        .output
+        .clone()
+        .unwrap_or_else(|| sibling(&args.view, "_edges.png"));
+    for p in std::iter::once(&out).chain(&args.magnitude) {
+        crate::cli::files::check_output(p, &[&args.view])?;
+    }
     let gray = read_picture(&args.view)?;
     let window = if args.trailing_window {
         SmoothWindow::Trailing
@@ -44,10 +51,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut edges = threshold(&smoothed, args.threshold);
     let count = edges.as_raw().iter().filter(|v| **v != 0).count();
     edges.iter_mut().for_each(|v| *v *= 255);
-    let out = args
-        .output
-        .clone()
-        .unwrap_or_else(|| sibling(&args.view, "_edges.png"));
     write_png_gray8(&out, &edges)?;
     if let Some(m) = &args.magnitude {
         let bytes = encode_png_gray16(&smoothed).context("encoding the magnitude PNG")?;

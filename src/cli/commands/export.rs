@@ -52,13 +52,20 @@ fn form_of(path: &Path) -> anyhow::Result<Form> {
 /// Runs `blockworld export`: reads and validates the scene, builds the glTF and writes it
 /// atomically (for `.gltf`, the `.bin` first so the JSON never points at a missing file).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let mut inputs = super::view::model_files(&args.scene);
+    inputs.extend(args.truth.iter().cloned());
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     match args.format.to_ascii_lowercase().as_str() {
         "gltf" => {}
-        "thesis" => return run_thesis(&args),
+        "thesis" => return run_thesis(&args, &inputs),
         other => bail!("--format: unknown format {other:?}; the formats are gltf and thesis"),
     }
     let form = form_of(&args.output)?;
     let out = &args.output;
+    crate::cli::files::check_output(out, &inputs)?;
+    if let Form::GltfWithBin = form {
+        crate::cli::files::check_output(&out.with_extension("bin"), &inputs)?;
+    }
     let context = || format!("exporting {} to {}", args.scene.display(), out.display());
     let (files, blocks) = gltf_files(&args).with_context(context)?;
     match form {
@@ -103,7 +110,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// number of blocks in it.
 fn gltf_files(args: &Args) -> anyhow::Result<(GltfFiles, usize)> {
     let Some(truth_path) = &args.truth else {
-        let scene = crate::cli::files::read_scene_shown(&args.scene)?;
+        let scene = match super::view::thesis_pair(&args.scene) {
+            Some(_) => {
+                super::view::read_model(&args.scene, blockworld::export::Truncation::Strict)?
+            }
+            None => crate::cli::files::read_scene_shown(&args.scene)?,
+        };
         return Ok((scene_to_gltf(&scene)?, scene.blocks.len()));
     };
     let truth = read_scene(truth_path)
@@ -116,7 +128,13 @@ fn gltf_files(args: &Args) -> anyhow::Result<(GltfFiles, usize)> {
 
 /// `--format thesis`: the Appendix B data files, vertices first so a reader that finds the
 /// connections file finds its vertices too.
-fn run_thesis(args: &Args) -> anyhow::Result<()> {
+fn run_thesis(args: &Args, inputs: &[&Path]) -> anyhow::Result<()> {
+    let prefix = args.output.display().to_string();
+    let paths =
+        ["_vertices.txt", "_connections.txt"].map(|s| PathBuf::from(format!("{prefix}{s}")));
+    for p in &paths {
+        crate::cli::files::check_output(p, inputs)?;
+    }
     let scene = super::view::read_model(&args.scene, blockworld::export::Truncation::Strict)?;
     let files = blockworld::export::scene_to_thesis_files(&scene).with_context(|| {
         format!(
@@ -124,20 +142,15 @@ fn run_thesis(args: &Args) -> anyhow::Result<()> {
             args.scene.display()
         )
     })?;
-    let prefix = args.output.display().to_string();
-    for (suffix, text) in [
-        ("_vertices.txt", &files.vertices),
-        ("_connections.txt", &files.connections),
-    ] {
-        let path = PathBuf::from(format!("{prefix}{suffix}"));
-        write_atomic(&path, text.as_bytes())
+    for (path, text) in paths.iter().zip([&files.vertices, &files.connections]) {
+        write_atomic(path, text.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    println!(
+    outln!(
         "{}: {} blocks -> {prefix}_vertices.txt, {prefix}_connections.txt (block units of {} mm)",
         args.scene.display(),
         scene.blocks.len(),
         blockworld::export::THESIS_UNIT_MM
-    );
+    )?;
     Ok(())
 }

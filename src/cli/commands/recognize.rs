@@ -83,6 +83,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
+    if let Some(v) = views
+        .iter()
+        .enumerate()
+        .find_map(|(i, v)| views[..i].contains(v).then_some(v))
+    {
+        anyhow::bail!("--views: {} given twice; name each view once", v.name());
+    }
+    let inputs: Vec<PathBuf> = views
+        .iter()
+        .flat_map(|v| {
+            let v = v.name();
+            ["camera_{v}.json", "lines_{v}.json", "view_{v}.png"]
+                .map(|f| args.dir.join(f.replace("{v}", v)))
+        })
+        .collect();
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::cli::files::check_output(&args.output, &inputs)?;
     let (observed, pictures): (Vec<ObservedView>, Vec<Option<image::GrayImage>>) = views
         .iter()
         .map(|&v| read_view(&args.dir, v, args.from_truth))
@@ -109,7 +126,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let recon = reconstruction(&name, &recognition, 0.5);
     blockworld::io::write_atomic(&args.output, reconstruction_to_json(&recon).as_bytes())
         .with_context(|| format!("writing {}", args.output.display()))?;
-    eprintln!(
+    outln!(
         "{}: {} blocks in {} layers -> {}{}",
         args.dir.display(),
         recognition.blocks.len(),
@@ -119,6 +136,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .reason
             .as_deref()
             .map_or(String::new(), |r| format!(" (unsupported: {r})"))
-    );
+    )?;
     Ok(())
 }

@@ -27,6 +27,7 @@ pub struct Args {
 /// Runs `blockworld settle`: stable scenes are written snapped to their intended poses;
 /// unstable ones are reported block by block and fail unless `--allow-drift`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    crate::cli::files::check_output(&args.output, &[&args.scene])?;
     let scene = crate::cli::files::read_scene_shown(&args.scene)?;
     let params = SettleParams {
         drift_tol_mm: args.drift_tol_mm,

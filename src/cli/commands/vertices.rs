@@ -43,6 +43,9 @@ pub struct Args {
 
 /// Runs `blockworld vertices`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(out) = &args.output {
+        crate::cli::files::check_output(out, &[&args.view, &args.camera])?;
+    }
     let gray = read_picture(&args.view)?;
     let camera = read_camera(&args.camera)?;
     let mut opts = VisionOptions::default();
@@ -60,12 +63,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(p) => {
             blockworld::io::write_atomic(p, text.as_bytes())
                 .with_context(|| format!("writing {}", p.display()))?;
-            eprintln!(
+            outln!(
                 "{} vertices, {} lines -> {}",
                 det.drawing.points.len(),
                 det.drawing.lines.len(),
                 p.display()
-            );
+            )?;
         }
         None => out!("{text}")?,
     }

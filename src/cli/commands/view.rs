@@ -72,14 +72,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "--shade needs a .png output (shading uses a depth buffer); drop --shade or write .png"
         );
     }
+    let mut inputs = model_files(&args.model);
+    inputs.extend(args.overlay.iter().flat_map(|o| model_files(o)));
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::cli::files::check_output(&args.output, &inputs)?;
     let truncation = if args.fragment {
         Truncation::AllowFragment
     } else {
         Truncation::Strict
     };
-    let model = read_model(&args.model, truncation)?;
+    let model = read_model(&args.model, truncation).context("the model")?;
     let truth = match &args.overlay {
-        Some(path) => Some(read_model(path, truncation)?),
+        Some(path) => Some(read_model(path, truncation).context("--overlay")?),
         None => None,
     };
     let (models, scenes) = match &truth {
@@ -93,7 +97,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => (vec![wire_model(&model, Role::Model)], vec![&model]),
     };
     if args.world {
-        print!("{}", world_table(&models));
+        out!("{}", world_table(&models))?;
     }
     let params = view_params(&args, &scenes)?;
     let opts = sheet_options(&args)?;
@@ -106,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_atomic(&args.output, &bytes)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let p = &sheet.panels[0];
-    println!(
+    outln!(
         "{}: {} blocks, {} viewport(s); first: {} lines drawn, {} clipped, {} outside -> {}",
         args.model.display(),
         model.blocks.len(),
@@ -115,7 +119,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         p.clipped_lines,
         p.rejected_lines,
         args.output.display()
-    );
+    )?;
     Ok(())
 }
 
@@ -150,13 +154,21 @@ pub fn thesis_pair(path: &Path) -> Option<(PathBuf, PathBuf)> {
     ))
 }
 
+/// The files a model argument names: the two Appendix B files, or the one scene file.
+pub fn model_files(path: &Path) -> Vec<PathBuf> {
+    match thesis_pair(path) {
+        Some((v, c)) => vec![v, c],
+        None => vec![path.to_path_buf()],
+    }
+}
+
 /// Reads a model (menu r): the Appendix B data files (in mm, the thesis's frame) or a scene or
 /// reconstruction file (not checked for overlaps: reconstructions may overlap).
 pub fn read_model(path: &Path, truncation: Truncation) -> anyhow::Result<Scene> {
     let Some((vp, cp)) = thesis_pair(path) else {
         return read_reconstruction(path)
             .map(|r| r.to_scene())
-            .with_context(|| format!("reading the model {}", path.display()));
+            .with_context(|| format!("reading {}", path.display()));
     };
     let read = |p: &Path| {
         std::fs::read_to_string(p).with_context(|| {
