@@ -4,7 +4,8 @@
 //! thesis "A Modified Kanade Model for Three-Dimensional Object Recognition" (the seed). Data
 //! flows one way, following the thesis's flow chart (Figure 5.3):
 //!
-//! `scene` → `physics` (rapier3d settling) → `render` (wgpu views + exact ground truth) →
+//! `scene` → `physics` (rapier3d settling) → `render` (wgpu views + ground truth,
+//! whose exact line drawing is [`linedraw`]) →
 //! `vision` (Sobel, least-squares lines, six-bit codes) → `recognize` → `csg` → `score` (parry3d
 //! volume overlap); `export` writes glTF and the thesis's data files. Every stage maps pixels
 //! to the world through the one [`camera`]. `dataset` produces synthetic datasets at scale; the
@@ -53,6 +54,7 @@ pub mod export;
 pub mod geom;
 pub mod io;
 pub mod kanade;
+pub mod linedraw;
 pub mod output;
 pub mod physics;
 pub mod pipeline;

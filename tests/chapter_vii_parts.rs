@@ -8,7 +8,7 @@ mod common;
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::LineDrawing;
 use blockworld::geom::{DVec2, DVec3};
-use blockworld::render::truth::visible_line_drawing;
+use blockworld::linedraw::visible_line_drawing;
 use blockworld::render::RenderOptions;
 use blockworld::scene::{Block, Scene};
 

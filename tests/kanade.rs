@@ -1,6 +1,6 @@
 //! Kanade's model on whole drawings: PAIP ch. 17's diagrams transcribed as drawings
 //! (`tests/fixtures/kanade/paip_*.json`, every count the book states), and the true labelling
-//! of exactly drawn scenes (`render::truth`) found among the labeller's labellings.
+//! of exactly drawn scenes (`linedraw`) found among the labeller's labellings.
 
 mod common;
 use common::blockworld;
@@ -16,7 +16,7 @@ use blockworld::kanade::{
     ExtensionReason, JunctionFacts, LabelOptions, LabelReport, LineLabel, RowFacts,
     BLOCKS_EXTENSIONS,
 };
-use blockworld::render::truth::visible_line_drawing;
+use blockworld::linedraw::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
 use std::path::Path;
 
@@ -438,7 +438,7 @@ fails when either differs from what the scenes show, and when a catalog row has 
 `blockworld label --catalog blocks` labels with the Huffman-Clowes catalog (18 labellings, PAIP
 ch. 17) plus the rows below. Huffman and Clowes found their catalog by listing the corners one
 trihedral solid in general position can show; the rows below are found the same way for stacks
-of boxes, by drawing them: every junction of the exact drawings (`render::truth`) of 440
+of boxes, by drawing them: every junction of the exact drawings (`linedraw`) of 440
 training scenes (40 per generator family, ChaCha8 seeds 1000-1439, family
 `Family::ALL[seed % 11]`, drawn by `Family::draw`; the four corner views, each camera framing all
 block vertices with the default options; disjoint from the accuracy suite `scenes/bench`) with

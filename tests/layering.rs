@@ -14,7 +14,11 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("drawing", &["geom", "io"]),
     ("scene", &["geom", "io"]),
     ("physics", &["scene", "geom"]),
-    ("render", &["scene", "drawing", "camera", "geom"]),
+    ("linedraw", &["scene", "drawing", "camera", "geom"]),
+    (
+        "render",
+        &["scene", "drawing", "linedraw", "camera", "geom"],
+    ),
     ("output", &["render", "drawing", "camera", "io", "geom"]),
     ("vision", &["drawing", "camera", "geom"]),
     ("score", &["scene", "drawing", "geom"]),
@@ -26,7 +30,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     (
         "recognize",
-        &["drawing", "render", "scene", "camera", "geom"],
+        &["drawing", "linedraw", "scene", "camera", "geom"],
     ),
     ("csg", &["recognize", "scene", "camera", "geom"]),
     ("kanade", &["drawing", "camera", "geom"]),
@@ -54,6 +58,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
 const BELOW_RENDER: &[&str] = &[
     "geom", "io", "camera", "drawing", "scene", "physics", "vision",
 ];
+
+/// Stages after the renderer in the flow that still must not import it: they need the exact
+/// line drawing (`linedraw`, pure geometry) or the scene, never the GPU code or its pictures.
+const NOT_RENDER_CLIENTS: &[&str] = &["recognize", "kanade", "view", "score"];
 
 /// External crate -> the only stages (path prefixes under src/) that may name it.
 const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
@@ -171,6 +179,24 @@ fn no_stage_below_render_imports_render() {
             );
         }
     }
+}
+
+#[test]
+fn the_line_drawing_stages_do_not_import_the_renderer() {
+    for stage in NOT_RENDER_CLIENTS {
+        let Some((_, allowed)) = ALLOWED.iter().find(|(s, _)| s == stage) else {
+            panic!("{stage} is not in ALLOWED");
+        };
+        assert!(
+            !allowed.contains(&"render") && !allowed.contains(&"*"),
+            "{stage} may import render: it needs only the exact line drawing (crate::linedraw)"
+        );
+    }
+    let allowed_linedraw = ALLOWED.iter().find(|(s, _)| *s == "linedraw").unwrap().1;
+    assert!(
+        !allowed_linedraw.contains(&"render"),
+        "linedraw is pure geometry and must not import render"
+    );
 }
 
 #[test]

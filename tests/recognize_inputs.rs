@@ -36,8 +36,8 @@ fn no_views_and_broken_drawings_are_typed_errors() {
 fn mutated_real_drawings_are_answered_or_declined() {
     use blockworld::camera::{Camera, CameraOptions, CornerView};
     use blockworld::geom::DVec2;
+    use blockworld::linedraw::visible_line_drawing;
     use blockworld::recognize::ObservedView;
-    use blockworld::render::truth::visible_line_drawing;
     use blockworld::scene::{read_scene, ReconStatus};
     let scene = read_scene(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),

@@ -1,5 +1,5 @@
 //! The recognizer (thesis Chapters IV-V) on the whole accuracy suite `scenes/bench/`, from the
-//! exact line drawings (`render::truth`, the `--from-truth` input): every supported scene whose
+//! exact line drawings (`linedraw`, the `--from-truth` input): every supported scene whose
 //! blocks some view shows comes out `exact`, every known failure case is declined or exact, and
 //! no answer is confidently wrong. Also: the check step (step 6) catches a worse answer.
 
@@ -7,11 +7,11 @@ mod common;
 
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::LineDrawing;
+use blockworld::linedraw::visible_line_drawing;
 use blockworld::pipeline::undecided_by_views;
 use blockworld::recognize::{
     check_hypothesis, recognize, ObservedView, Recognition, RecognizeOptions,
 };
-use blockworld::render::truth::visible_line_drawing;
 use blockworld::render::RenderOptions;
 use blockworld::scene::{read_scene, ReconStatus, Scene};
 use blockworld::score::{scene_family, score_reconstruction, Verdict};

@@ -1,5 +1,5 @@
 //! Every ground-truth visible line lies on an intensity edge of the rendered image, and
-//! no rendered intensity edge lacks a line. The drawing comes from geometry (`render::truth`),
+//! no rendered intensity edge lacks a line. The drawing comes from geometry (`linedraw`),
 //! the picture from wgpu on lavapipe, so this ties the two together, seams included.
 
 use blockworld::camera::CornerView;

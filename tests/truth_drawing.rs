@@ -1,4 +1,4 @@
-//! Whole-scene tests of the exact visible line drawing (docs/rendering.md "Rendering", `render::truth`): the small
+//! Whole-scene tests of the exact visible line drawing (docs/rendering.md "Rendering", `linedraw`): the small
 //! cases of docs/formats.md "The exact line drawing" (NE view, orthographic, exact isometric elevation),
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
@@ -6,7 +6,7 @@
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::{Junction, LineDrawing, LineKind};
 use blockworld::geom::{DQuat, DVec2, DVec3};
-use blockworld::render::truth::visible_line_drawing;
+use blockworld::linedraw::visible_line_drawing;
 use blockworld::scene::{
     basic_blocks, Block, BlockType, ConvexPolyhedron, Orientation, Scene, Shape,
 };
@@ -452,7 +452,7 @@ fn perturbed_poses_draw_like_their_intended_scene() {
 // ---------------------------------------------------------------------------------------------
 
 /// The first entry of the ray `o + t d` (t >= 0) into any block, by slab clipping against each
-/// convex block's face planes. Shares no code with `render::truth`.
+/// convex block's face planes. Shares no code with `linedraw`.
 fn first_hit_t(planes: &[Vec<(DVec3, f64)>], o: DVec3, d: DVec3) -> f64 {
     let mut best = f64::INFINITY;
     'blocks: for block in planes {

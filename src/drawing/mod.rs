@@ -1,6 +1,6 @@
 //! The line drawing: points in picture coordinates, straight lines between them, and per point
 //! the thesis's **six-bit code** (Chapter IV) and junction class (Chapter V, Figure 5.1;
-//! Kanade's catalog of Chapter II). Ground truth (`render::truth`) and the vision front end
+//! Kanade's catalog of Chapter II). Ground truth (`linedraw`) and the vision front end
 //! (`vision`) both produce a [`LineDrawing`], so any tool can compare the two.
 //!
 //! ## Bit order

@@ -25,7 +25,7 @@
 //! of five and more lines where block corners meet in the picture. Huffman and Clowes found their
 //! catalog by enumerating the corners a trihedral solid can show; the blocks catalog is found
 //! the same way for block stacks, by drawing them: every junction of the exact drawings
-//! (`render::truth`) of 440 generated scenes (40 per generator family, seeds 1000-1439, four
+//! (`linedraw`) of 440 generated scenes (40 per generator family, seeds 1000-1439, four
 //! corner views; disjoint from the accuracy suite `scenes/bench`, seed 2026) with its true
 //! labels, each row noting how often it was seen and why stacked blocks need it
 //! ([`super::ExtensionReason`], chosen by the rules of [`super::extension_reason`] from the

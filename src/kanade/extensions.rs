@@ -14,7 +14,7 @@ use crate::geom::DVec3;
 /// far below the 7.5 mm grid of the generated scenes, far above the exact drawing's rounding.
 pub const SAME_POINT_TOLERANCE_MM: f64 = 1e-3;
 
-/// The 3D facts of one junction of an exact drawing (`render::truth`, whose lines carry their
+/// The 3D facts of one junction of an exact drawing (`linedraw`, whose lines carry their
 /// blocks and 3D ends, docs/formats.md "The exact line drawing").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct JunctionFacts {

@@ -3,7 +3,7 @@
 //! their crack hidden in every view) means the sample cannot be told, and answering would risk
 //! a confident wrong answer (Chapter VII: what the method cannot do is declined).
 //!
-//! Every alternative is decided by the exact redraw (`render::truth`), except where the
+//! Every alternative is decided by the exact redraw (`linedraw`), except where the
 //! hypothesis's own exact drawing already *proves* the alternative draws a point that nothing
 //! observed is near (a split block's edge visible across the crack), or lacks every point near
 //! an observed one (a crack between two blocks, visible in the hypothesis's drawing, that a

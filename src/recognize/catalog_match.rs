@@ -444,8 +444,8 @@ mod tests {
     use super::super::parallelogram::{ParallelogramSearch, TopCorner};
     use super::super::select::select_vertices;
     use super::*;
+    use crate::linedraw::visible_line_drawing;
     use crate::recognize::{CameraOptions, CornerView};
-    use crate::render::truth::visible_line_drawing;
     use crate::scene::Scene;
 
     #[test]

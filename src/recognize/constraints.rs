@@ -149,8 +149,8 @@ pub fn overhangs(b: &Block, blocks: &[Block], tol_mm: f64, step_mm: f64) -> bool
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linedraw::visible_line_drawing;
     use crate::recognize::{CameraOptions, CornerView};
-    use crate::render::truth::visible_line_drawing;
     use crate::scene::Scene;
 
     #[test]

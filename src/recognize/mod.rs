@@ -16,7 +16,7 @@
 //!    Figure 5.3 ([`direct_hypothesis`]: well-supported candidates, lowest level first), and
 //!    only when its drawing does not explain every view the search [`choose_blocks`].
 //! 5. CSG: in the `csg` stage.
-//! 6. [`check_hypothesis`]: the answer's own exact line drawing (`render::truth`) held against
+//! 6. [`check_hypothesis`]: the answer's own exact line drawing (`linedraw`) held against
 //!    every observed view; `ok` only when every view is explained and no split or merged
 //!    alternative explains them equally well ([`equally_good_alternative`]), otherwise
 //!    `unsupported` with the reason, as also for what Chapter VII says the method cannot do

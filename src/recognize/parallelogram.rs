@@ -307,8 +307,8 @@ pub(super) fn horizontal_axis_on(
 mod tests {
     use super::super::select::{select_vertices, tests::cube_drawing};
     use super::*;
+    use crate::linedraw::visible_line_drawing;
     use crate::recognize::{CameraOptions, CornerView};
-    use crate::render::truth::visible_line_drawing;
     use crate::scene::{Block, Scene};
 
     #[test]

@@ -1,5 +1,5 @@
 //! Step 6 of the recognizer, the check before answering: draw the hypothesis's own exact line
-//! drawing in every view with the ground-truth hidden-line removal (`render::truth`) and hold
+//! drawing in every view with the ground-truth hidden-line removal (`linedraw`) and hold
 //! it against the observed drawing. A view is explained when every observed point has a drawn
 //! point within the tolerance and vice versa, and every line of either lies along a parallel
 //! line of the other.
@@ -7,7 +7,7 @@
 use super::{Camera, ObservedView};
 use crate::drawing::LineDrawing;
 use crate::geom::DVec2;
-use crate::render::truth::visible_line_drawing;
+use crate::linedraw::visible_line_drawing;
 use crate::scene::{Block, Scene};
 
 /// What one view's comparison found (all counts, 0 = explained).
@@ -332,7 +332,7 @@ pub fn blocks_drawn_in_excess(
     out
 }
 
-/// Draws `blocks` in `camera` with the exact hidden-line removal of `render::truth`.
+/// Draws `blocks` in `camera` with the exact hidden-line removal of `linedraw`.
 pub fn draw_hypothesis(blocks: &[Block], camera: &Camera) -> LineDrawing {
     visible_line_drawing(&Scene::new("hypothesis", blocks.to_vec()), camera)
 }

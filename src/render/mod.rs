@@ -2,11 +2,11 @@
 //! wgpu (Vulkan on lavapipe by default), plus their ground truth: depth, block ids and the exact
 //! visible line drawing computed from geometry.
 //!
-//! The camera is the shared `crate::camera`; `truth` is pure geometry; only `gpu` touches wgpu.
+//! The camera is the shared `crate::camera`; the exact line drawing is `crate::linedraw` (pure
+//! geometry, shared with the recognizer's check); only `gpu` touches wgpu.
 
 mod gpu;
 pub mod photo;
-pub mod truth;
 
 pub use photo::{Look, PhotoOptions};
 
@@ -14,6 +14,7 @@ use crate::camera::{Camera, CameraOptions, CornerView, Projection, DEPTH_UNITS_P
 
 use crate::drawing::LineDrawing;
 use crate::geom::DVec3;
+use crate::linedraw;
 use crate::scene::Scene;
 use image::{GrayImage, ImageBuffer, Luma};
 
@@ -225,7 +226,7 @@ impl Renderer {
     }
 
     /// Renders one corner view of `scene` with its ground truth, including the exact visible
-    /// line drawing ([`truth::visible_line_drawing`]).
+    /// line drawing ([`linedraw::visible_line_drawing`]).
     pub fn render(
         &self,
         scene: &Scene,
@@ -236,7 +237,7 @@ impl Renderer {
     }
 
     /// [`Renderer::render`] reporting the exact line drawing's progress as `(done, total)`
-    /// ([`truth::visible_line_drawing_with_progress`]): on scenes of thousands of blocks the
+    /// ([`linedraw::visible_line_drawing_with_progress`]): on scenes of thousands of blocks the
     /// drawing takes seconds, the pixels do not.
     pub fn render_with_progress(
         &self,
@@ -246,10 +247,10 @@ impl Renderer {
         progress: &(dyn Fn(u64, u64) + Sync),
     ) -> Result<RenderedView, RenderError> {
         let mut rendered = self.render_pixels(scene, view, opts)?;
-        rendered.lines = truth::visible_line_drawing_with_progress(
+        rendered.lines = linedraw::visible_line_drawing_with_progress(
             scene,
             &rendered.camera,
-            &truth::TruthTolerances::default(),
+            &linedraw::TruthTolerances::default(),
             progress,
         );
         Ok(rendered)
@@ -328,10 +329,10 @@ impl Renderer {
     ) -> Result<Vec<RenderedView>, RenderError> {
         let mut rendered = self.render_views_pixels(scene, views, opts)?;
         for v in &mut rendered {
-            v.lines = truth::visible_line_drawing_with_progress(
+            v.lines = linedraw::visible_line_drawing_with_progress(
                 scene,
                 &v.camera,
-                &truth::TruthTolerances::default(),
+                &linedraw::TruthTolerances::default(),
                 &|_, _| {},
             );
         }

@@ -13,8 +13,8 @@ use blockworld::kanade::{
     labelling_from_kinds, orthographic_px_per_mm, recover_shape, surface_connection_graph,
     true_line_ends_px, Catalog, ComputerWords, LabelOptions, LabelReport, LineLabel, ShapeRecovery,
 };
+use blockworld::linedraw::visible_line_drawing;
 use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
-use blockworld::render::truth::visible_line_drawing;
 use blockworld::scene::{read_scene, Scene};
 use blockworld::score::score_reconstruction;
 use std::path::{Path, PathBuf};
@@ -176,7 +176,7 @@ fn machine_line() -> String {
     } else {
         "release build"
     };
-    format!("{cpu}, {cores} cores, load average {load}, {profile}; drawings: exact (render::truth), orthographic, 512 x 480")
+    format!("{cpu}, {cores} cores, load average {load}, {profile}; drawings: exact (linedraw), orthographic, 512 x 480")
 }
 
 fn camera(scene: &Scene, view: CornerView) -> Camera {

@@ -2,6 +2,16 @@
 //! polyhedra (not from pixels): the ground truth `lines_<view>.json` of docs/rendering.md "Rendering", in the
 //! vocabulary of Chapter IV (lines, junctions, six-bit codes) and Kanade's labels (Chapter II).
 //!
+//! ## Why a stage of its own, and why this name
+//! The thesis's input is a *line drawing* (Chapter IV builds it from a picture; Chapter II's
+//! labels are labels of one), and this module *draws* it from geometry: hence `linedraw`, the
+//! thing it makes rather than the use one caller puts it to. It is pure geometry (no wgpu, no
+//! pixels), taking a [`Scene`] and a [`Camera`] and returning a [`LineDrawing`], and it has
+//! three kinds of caller: the renderer's ground truth (`render`), the recognizer's check that an
+//! answer redraws the input (`recognize::verify`), and the comparisons and benches of the
+//! binary. Inside `render` it let the recognizer import the GPU code; beside it, the stages that
+//! only need the drawing depend on geometry alone (`tests/layering.rs`).
+//!
 //! ## Algorithm
 //! 1. **Scene geometry** (`geometry`): every block face as a plane and a picture polygon; a face
 //!    is *front-facing* when the eye is on its outer side (faces seen exactly edge-on are
