@@ -3,15 +3,20 @@
 //! on the pictures, or the exact drawings, to tell recognition errors from vision errors) →
 //! the modified Kanade recognizer → its CSG reconstruction → its score against the truth.
 //!
-//! The one home of suite running: `bench accuracy`, `bench recognize`, the accuracy gate
-//! (`tests/accuracy_gate.rs`) and `demo` call [`run_scene`] and [`run_suite`]. Each stage's
-//! time is counted where the stage is called ([`StageTimes`]), so benches print what the
-//! stages measured instead of re-running their steps. No file I/O.
+//! The one home of suite running: `bench accuracy` and the accuracy gate
+//! (`tests/accuracy_gate.rs`) call [`run_scene`] and [`run_suite`]; `demo` and `bench
+//! recognize`, which keep the rendered views for their own output, call [`observe`] and
+//! [`recognize_rendered`], the same two steps [`run_scene`] takes, so every caller runs the
+//! recognizer as `blockworld recognize` does (with the pictures for step 6 when the drawings
+//! were read from them). Each stage's time is counted where the stage is called
+//! ([`StageTimes`]), so benches print what the stages measured instead of re-running their
+//! steps. No file I/O.
 
 use crate::camera::CornerView;
 use crate::csg::reconstruction;
 use crate::recognize::{
-    equally_good_alternative, recognize_in_pictures, ObservedView, RecognizeOptions,
+    equally_good_alternative, recognize_in_pictures, ObservedView, Recognition, RecognizeError,
+    RecognizeOptions,
 };
 use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{Reconstruction, Scene};
@@ -155,6 +160,22 @@ pub fn observe(
     Ok((views, vision_ms))
 }
 
+/// Recognizes `views`, observed from `rendered` through `source` ([`observe`]), as `blockworld
+/// recognize` does: when the drawings were read from the pictures, step 6 reads the pictures
+/// too ([`recognize_in_pictures`]); exact drawings are recognized from the drawings alone.
+pub fn recognize_rendered(
+    rendered: &[RenderedView],
+    views: &[ObservedView],
+    source: &DrawingSource,
+    opts: &RecognizeOptions,
+) -> Result<Recognition, RecognizeError> {
+    let pictures: Vec<&image::GrayImage> = match source {
+        DrawingSource::Pictures(_) => rendered.iter().map(|v| &v.gray).collect(),
+        DrawingSource::Truth => Vec::new(),
+    };
+    recognize_in_pictures(views, &pictures, opts)
+}
+
 /// Renders `scene`, recognizes it and scores the answer against it (see the module doc).
 /// Failures to render, to see or to recognize become a `failed` result with the reason.
 pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOptions) -> SceneRun {
@@ -170,12 +191,7 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
                 observe(r, &opts.source).map_err(|e| NoReconstruction(format!("vision: {e}")))?;
             times.vision_ms = vision_ms;
             let t = Instant::now();
-            // Step 6 reads the pictures where the drawings were read from them.
-            let pictures: Vec<&image::GrayImage> = match opts.source {
-                DrawingSource::Pictures(_) => r.iter().map(|v| &v.gray).collect(),
-                DrawingSource::Truth => Vec::new(),
-            };
-            let recognition = recognize_in_pictures(&views, &pictures, &opts.recognize)
+            let recognition = recognize_rendered(r, &views, &opts.source, &opts.recognize)
                 .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
             let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
             times.recognize_ms = ms_since(t);

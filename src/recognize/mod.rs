@@ -561,26 +561,9 @@ pub fn recognize_in_pictures(
         });
     }
     views.iter().try_for_each(check_drawing)?;
-    let pictures: Vec<ViewPicture> = views
-        .iter()
-        .zip(pictures)
-        .map(|(v, g)| ViewPicture::new(g, &v.camera))
-        .collect();
-    // Pictures too coarse for the tolerance are not read at all (`ViewPicture::fine_enough`).
-    let pictures = if pictures.iter().all(|p| p.fine_enough(opts.tol_px)) {
-        pictures
-    } else {
-        Vec::new()
-    };
+    let pictures = read_pictures(views, pictures, opts);
     let mut views = normalize_views(views);
-    for (v, pic) in views.iter_mut().zip(&pictures) {
-        let mut off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
-        off.extend(v.drawing.unclassified_lines.iter().copied());
-        off.retain(|k| !v.drawing.curved_lines.contains(k));
-        if !off.is_empty() {
-            v.drawing = without_weak_lines(&v.drawing, &off, pic);
-        }
-    }
+    drop_weak_off_axis_lines(&mut views, &pictures, opts);
     let views = &views[..];
     let mut evidence = Evidence::default();
     let trapezoids = match check_directions(views, opts) {
@@ -625,6 +608,42 @@ pub fn recognize_in_pictures(
         reason: None,
         evidence,
     })
+}
+
+/// The views' pictures with their noise and scale ([`ViewPicture::new`]); none when any is too
+/// coarse for the tolerance (`ViewPicture::fine_enough`): such pictures are not read at all.
+fn read_pictures<'a>(
+    views: &[ObservedView],
+    pictures: &[&'a image::GrayImage],
+    opts: &RecognizeOptions,
+) -> Vec<ViewPicture<'a>> {
+    let pictures: Vec<ViewPicture> = views
+        .iter()
+        .zip(pictures)
+        .map(|(v, g)| ViewPicture::new(g, &v.camera))
+        .collect();
+    if pictures.iter().all(|p| p.fine_enough(opts.tol_px)) {
+        pictures
+    } else {
+        Vec::new()
+    }
+}
+
+/// Drops from each view's drawing the lines along no block axis (and the unclassified ones,
+/// curves kept) that its picture shows weak ([`without_weak_lines`]).
+fn drop_weak_off_axis_lines(
+    views: &mut [ObservedView],
+    pictures: &[ViewPicture],
+    opts: &RecognizeOptions,
+) {
+    for (v, pic) in views.iter_mut().zip(pictures) {
+        let mut off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
+        off.extend(v.drawing.unclassified_lines.iter().copied());
+        off.retain(|k| !v.drawing.curved_lines.contains(k));
+        if !off.is_empty() {
+            v.drawing = without_weak_lines(&v.drawing, &off, pic);
+        }
+    }
 }
 
 /// The exact views of `blocks` from the corner views `which`, framed as `render` frames them:

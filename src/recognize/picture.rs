@@ -278,26 +278,7 @@ pub fn picture_mismatch(
     if m.counts().is_explained() {
         return m;
     }
-    let profile = |d: &LineDrawing, k: usize| {
-        let [i, j] = d.lines[k];
-        edge_profile(picture, d.points[i], d.points[j])
-    };
-    // Points matched within the crack allowance, both ways.
-    let crack_pair = |q: DVec2, drawn_p: usize| {
-        q.distance(drawn.points[drawn_p]) <= point_allowance_px(drawn, drawn_p, tol_px)
-    };
-    let offset_drawn: Vec<usize> = m
-        .extra_points
-        .iter()
-        .copied()
-        .filter(|&p| observed.points.iter().any(|&q| crack_pair(q, p)))
-        .collect();
-    let offset_observed: Vec<usize> = m
-        .unexplained_points
-        .iter()
-        .copied()
-        .filter(|&q| (0..drawn.points.len()).any(|p| crack_pair(observed.points[q], p)))
-        .collect();
+    let offsets = CrackOffsets::new(drawn, observed, &m, tol_px);
     // Lines explained once the crack allowance is granted to their ends.
     let wide_tol = (0..drawn.points.len())
         .map(|p| point_allowance_px(drawn, p, tol_px))
@@ -307,29 +288,16 @@ pub fn picture_mismatch(
     } else {
         m.clone()
     };
-    let confirmed: Vec<usize> = m
-        .extra_lines
-        .iter()
-        .copied()
-        .filter(|&k| {
-            let ends_offset = drawn.lines[k].iter().any(|p| offset_drawn.contains(p));
-            (ends_offset && !wide.extra_lines.contains(&k)) || profile(drawn, k).confirms()
-        })
-        .collect();
-    let tolerated: Vec<usize> = m
-        .unexplained_lines
-        .iter()
-        .copied()
-        .filter(|&k| {
-            let ends_offset = observed.lines[k]
-                .iter()
-                .any(|p| offset_observed.contains(p));
-            (ends_offset && !wide.unexplained_lines.contains(&k))
-                || unexplained_pieces(observed, observed.lines[k], drawn, tol_px)
-                    .iter()
-                    .all(|&[a, b]| edge_profile(picture, a, b).is_weak())
-        })
-        .collect();
+    let confirmed = confirmed_lines(drawn, picture, &m, &wide, &offsets.drawn);
+    let tolerated = tolerated_lines(
+        drawn,
+        observed,
+        picture,
+        &m,
+        &wide,
+        &offsets.observed,
+        tol_px,
+    );
     let extra_points = m
         .extra_points
         .iter()
@@ -338,7 +306,7 @@ pub fn picture_mismatch(
             let ok = |k: &usize| !m.extra_lines.contains(k) || confirmed.contains(k);
             let by_lines = lines_at(drawn, p).all(|k| ok(&k))
                 && lines_at(drawn, p).any(|k| confirmed.contains(&k));
-            !(offset_drawn.contains(&p) || by_lines)
+            !(offsets.drawn.contains(&p) || by_lines)
         })
         .collect();
     let unexplained_points = m
@@ -351,7 +319,7 @@ pub fn picture_mismatch(
             let by_lines = all_ok && lines_at(observed, q).any(|k| tolerated.contains(&k));
             // A point splitting drawn edges (its lines explained) says nothing more.
             let on_edge = all_ok && on_drawn_line(drawn, observed.points[q], tol_px);
-            !(offset_observed.contains(&q) || by_lines || on_edge)
+            !(offsets.observed.contains(&q) || by_lines || on_edge)
         })
         .collect();
     ViewMismatch {
@@ -368,6 +336,86 @@ pub fn picture_mismatch(
             .filter(|k| !confirmed.contains(k))
             .collect(),
     }
+}
+
+/// The unmatched points of a comparison that match a point of the other drawing within the
+/// crack allowance ([`point_allowance_px`]), both ways.
+struct CrackOffsets {
+    /// Extra points of the redraw with an observed point within their allowance.
+    drawn: Vec<usize>,
+    /// Unexplained observed points within the allowance of a redrawn point.
+    observed: Vec<usize>,
+}
+
+impl CrackOffsets {
+    fn new(drawn: &LineDrawing, observed: &LineDrawing, m: &ViewMismatch, tol_px: f64) -> Self {
+        let crack_pair = |q: DVec2, drawn_p: usize| {
+            q.distance(drawn.points[drawn_p]) <= point_allowance_px(drawn, drawn_p, tol_px)
+        };
+        CrackOffsets {
+            drawn: m
+                .extra_points
+                .iter()
+                .copied()
+                .filter(|&p| observed.points.iter().any(|&q| crack_pair(q, p)))
+                .collect(),
+            observed: m
+                .unexplained_points
+                .iter()
+                .copied()
+                .filter(|&q| (0..drawn.points.len()).any(|p| crack_pair(observed.points[q], p)))
+                .collect(),
+        }
+    }
+}
+
+/// The redrawn lines the drawing lacks that are explained: both explained once the crack
+/// allowance is granted to an offset end (`wide` is the comparison at that tolerance), or
+/// shown by the picture ([`EdgeProfile::confirms`]).
+fn confirmed_lines(
+    drawn: &LineDrawing,
+    picture: &ViewPicture,
+    m: &ViewMismatch,
+    wide: &ViewMismatch,
+    offset_drawn: &[usize],
+) -> Vec<usize> {
+    m.extra_lines
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let ends_offset = drawn.lines[k].iter().any(|p| offset_drawn.contains(p));
+            let [i, j] = drawn.lines[k];
+            (ends_offset && !wide.extra_lines.contains(&k))
+                || edge_profile(picture, drawn.points[i], drawn.points[j]).confirms()
+        })
+        .collect()
+}
+
+/// The observed lines the redraw lacks that are tolerated: explained once the crack allowance
+/// is granted to an offset end, or weak in the picture along every unexplained piece
+/// ([`EdgeProfile::is_weak`]).
+fn tolerated_lines(
+    drawn: &LineDrawing,
+    observed: &LineDrawing,
+    picture: &ViewPicture,
+    m: &ViewMismatch,
+    wide: &ViewMismatch,
+    offset_observed: &[usize],
+    tol_px: f64,
+) -> Vec<usize> {
+    m.unexplained_lines
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let ends_offset = observed.lines[k]
+                .iter()
+                .any(|p| offset_observed.contains(p));
+            (ends_offset && !wide.unexplained_lines.contains(&k))
+                || unexplained_pieces(observed, observed.lines[k], drawn, tol_px)
+                    .iter()
+                    .all(|&[a, b]| edge_profile(picture, a, b).is_weak())
+        })
+        .collect()
 }
 
 /// Step 6 with the picture: the counts of [`picture_mismatch`] (all 0 = the view is

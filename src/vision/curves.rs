@@ -20,7 +20,8 @@
 //! Block scenes leave only small blobs at junctions in the residue, so their drawings are
 //! unchanged.
 
-use super::lines::{fit_line_least_squares, picture_from_raster, EdgeList, FittedLine};
+use super::lines::{fit_line_least_squares, picture_from_raster, FittedLine};
+use super::votes::EdgeList;
 use crate::drawing::LineDrawing;
 use crate::geom::{bounds2, DMat3, DVec2, DVec3, UnionFind};
 use image::GrayImage;

@@ -34,8 +34,10 @@ mod eval;
 mod faint;
 mod gaps;
 mod lines;
+mod seams;
 mod soft;
 mod vertices;
+mod votes;
 
 pub use crate::geom::noise_levels;
 pub use curves::{add_curved_edges, find_curved_edges, fit_circle, residue_map, CurvedEdge};
@@ -52,9 +54,9 @@ pub use faint::{add_faint_edges, FaintEdgeOptions};
 pub use gaps::{bridge_free_ends, GapOptions};
 pub use lines::{
     edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,
-    picture_directions, picture_from_raster, refine_lines_on_seams, EdgeDirection, FittedLine,
-    LineOptions,
+    picture_directions, picture_from_raster, EdgeDirection, FittedLine, LineOptions,
 };
+pub use seams::refine_lines_on_seams;
 pub use soft::{drop_soft_edges, step_sharpness, STEP_SHARPNESS_MIN};
 pub use vertices::{find_vertices, VertexOptions};
 
@@ -270,7 +272,7 @@ fn detect_from_edges(
     let (axes, others): (Vec<_>, Vec<_>) = directions
         .iter()
         .partition(|(k, _)| EdgeAxis::BLOCK_AXES.contains(k));
-    let list = lines::EdgeList::new(&edges);
+    let list = votes::EdgeList::new(&edges);
     let mut lines = lines::fit_lines_on(&edges, &list, &axes, &opts.lines);
     if !others.is_empty() {
         let residue = curves::residue_map_on(&edges, &list, &lines);

@@ -112,16 +112,12 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
                 (s.to_px, s.from_px)
             };
             let outward = (end - other_end).normalize_or_zero();
-            let reach_for = |l: &FittedLine| {
-                let sin = l.direction.perp_dot(s.direction).abs().max(1e-9);
-                (opts.join_radius_px / sin).min(MAX_SLOPED_REACH_JOIN_RADII * opts.join_radius_px)
-            };
             let best = out
                 .iter()
                 .filter(|l| is_axis(l))
                 .filter_map(|l| {
                     let x = intersect(&s, l)?;
-                    let reach = reach_for(l);
+                    let reach = sloped_reach_px(l, &s, opts);
                     let beyond = (x - end).dot(outward);
                     let (t, t0, t1) = (l.along_px(x), l.along_px(l.from_px), l.along_px(l.to_px));
                     let on_l = t >= t0 - opts.join_radius_px && t <= t1 + opts.join_radius_px;
@@ -137,34 +133,54 @@ fn join_sloped_ends(lines: &[FittedLine], opts: &VertexOptions) -> Vec<FittedLin
             } else {
                 out[i].to_px = x;
             }
-            // Cut the block-axis lines meeting there that run on over the sloped line's lost
-            // pixels.
-            for l in out.iter_mut().filter(|l| is_axis(l)) {
-                let Some(xj) = intersect(&s, l).filter(|p| p.distance(x) <= opts.merge_radius_px)
-                else {
-                    continue;
-                };
-                let reach = reach_for(l);
-                let (from, to) = (l.from_px, l.to_px);
-                for (run_end, other) in [(from, to), (to, from)] {
-                    let past = run_end.distance(xj);
-                    let towards_slope = (run_end - xj).dot(other_end - xj) > 0.0;
-                    // The line runs on through the corner: the rest of it, beyond the corner,
-                    // is longer than the run to cut (and than a join radius).
-                    let rest = (xj - other).dot((run_end - other).normalize_or_zero());
-                    let through = rest > past.max(opts.join_radius_px);
-                    if past > 0.0 && past < reach && towards_slope && through {
-                        if run_end == from {
-                            l.from_px = xj;
-                        } else {
-                            l.to_px = xj;
-                        }
-                    }
+            cut_axis_lines_at(&mut out, &s, x, other_end, opts);
+        }
+    }
+    out
+}
+
+/// How far beyond a sloped line's end `s` its corner with the block-axis line `l` is looked
+/// for, px: `join_radius_px / sin(angle)`, at most [`MAX_SLOPED_REACH_JOIN_RADII`] join radii.
+fn sloped_reach_px(l: &FittedLine, s: &FittedLine, opts: &VertexOptions) -> f64 {
+    let sin = l.direction.perp_dot(s.direction).abs().max(1e-9);
+    (opts.join_radius_px / sin).min(MAX_SLOPED_REACH_JOIN_RADII * opts.join_radius_px)
+}
+
+/// Cuts at the corner `x` the block-axis lines meeting the sloped line `s` there that run on
+/// over the sloped line's lost pixels (towards `other_end`, its other end); see
+/// [`join_sloped_ends`].
+fn cut_axis_lines_at(
+    out: &mut [FittedLine],
+    s: &FittedLine,
+    x: DVec2,
+    other_end: DVec2,
+    opts: &VertexOptions,
+) {
+    let is_axis = |l: &FittedLine| EdgeAxis::BLOCK_AXES.contains(&l.axis);
+    // Cut the block-axis lines meeting there that run on over the sloped line's lost
+    // pixels.
+    for l in out.iter_mut().filter(|l| is_axis(l)) {
+        let Some(xj) = intersect(s, l).filter(|p| p.distance(x) <= opts.merge_radius_px) else {
+            continue;
+        };
+        let reach = sloped_reach_px(l, s, opts);
+        let (from, to) = (l.from_px, l.to_px);
+        for (run_end, other) in [(from, to), (to, from)] {
+            let past = run_end.distance(xj);
+            let towards_slope = (run_end - xj).dot(other_end - xj) > 0.0;
+            // The line runs on through the corner: the rest of it, beyond the corner,
+            // is longer than the run to cut (and than a join radius).
+            let rest = (xj - other).dot((run_end - other).normalize_or_zero());
+            let through = rest > past.max(opts.join_radius_px);
+            if past > 0.0 && past < reach && towards_slope && through {
+                if run_end == from {
+                    l.from_px = xj;
+                } else {
+                    l.to_px = xj;
                 }
             }
         }
     }
-    out
 }
 
 /// Drops short segments that sit inside a junction of other lines: shorter than twice the join
@@ -202,8 +218,20 @@ fn drop_junction_blobs(lines: &[FittedLine], opts: &VertexOptions) -> Vec<Fitted
 
 /// Builds the drawing from the kept lines (see [`find_vertices`]).
 fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
-    let ends = |l: &FittedLine| [l.from_px, l.to_px];
-    // 1. Candidates: intersections near a segment end and on (or near) the other segment.
+    let cands = end_candidates(lines, opts);
+    let (vertex_of, members) = group_candidates(lines.len(), &cands, opts);
+    let mut points: Vec<DVec2> = members
+        .iter()
+        .map(|(ls, ps)| nearest_point(lines, ls, ps))
+        .collect();
+    add_crossings(lines, &mut points, opts);
+    let on_line = attach_vertices(lines, &cands, &vertex_of, &mut points, opts);
+    compact(points, lines_between_vertices(on_line))
+}
+
+/// Step 1 of [`build_drawing`]: candidates, the intersections near a segment end and on (or
+/// near) the other segment.
+fn end_candidates(lines: &[FittedLine], opts: &VertexOptions) -> Vec<Candidate> {
     let mut cands: Vec<Candidate> = Vec::new();
     for (i, a) in lines.iter().enumerate() {
         for (j, b) in lines.iter().enumerate() {
@@ -216,7 +244,7 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             if tb < b0 - opts.join_radius_px || tb > b1 + opts.join_radius_px {
                 continue;
             }
-            for (e, q) in ends(a).into_iter().enumerate() {
+            for (e, q) in [a.from_px, a.to_px].into_iter().enumerate() {
                 if q.distance(p) <= opts.join_radius_px {
                     cands.push(Candidate {
                         line: i,
@@ -228,9 +256,21 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             }
         }
     }
-    // 2. Group: candidates sharing a segment end, or close together, are one vertex.
+    cands
+}
+
+/// The lines and candidate points of one vertex.
+type VertexMembers = (Vec<usize>, Vec<DVec2>);
+
+/// Steps 2 and 3 of [`build_drawing`]: candidates sharing a segment end, or close together, are
+/// one vertex. Returns each candidate's vertex and each vertex's lines and candidate points.
+fn group_candidates(
+    line_count: usize,
+    cands: &[Candidate],
+    opts: &VertexOptions,
+) -> (Vec<usize>, Vec<VertexMembers>) {
     let mut sets = UnionFind::new(cands.len());
-    let mut by_end: Vec<Option<usize>> = vec![None; lines.len() * 2];
+    let mut by_end: Vec<Option<usize>> = vec![None; line_count * 2];
     for (ci, c) in cands.iter().enumerate() {
         let key = c.line * 2 + c.end;
         match by_end[key] {
@@ -245,15 +285,16 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             }
         }
     }
-    // 3. One vertex per group, at the least-squares point of its lines.
     let mut root_to_vertex: Vec<Option<usize>> = vec![None; cands.len()];
-    let mut members: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
+    let mut members: Vec<VertexMembers> = Vec::new();
+    let mut vertex_of = Vec::with_capacity(cands.len());
     for (ci, cand) in cands.iter().enumerate() {
         let r = sets.find(ci);
         let v = *root_to_vertex[r].get_or_insert_with(|| {
             members.push((Vec::new(), Vec::new()));
             members.len() - 1
         });
+        vertex_of.push(v);
         let (ls, ps) = &mut members[v];
         for l in [cand.line, cand.other] {
             if !ls.contains(&l) {
@@ -262,12 +303,12 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
         }
         ps.push(cand.p);
     }
-    let mut points: Vec<DVec2> = members
-        .iter()
-        .map(|(ls, ps)| nearest_point(lines, ls, ps))
-        .collect();
-    // 3b. Crossings: two lines passing through each other away from their ends (an X
-    // junction, e.g. where the cracks between four flush blocks meet) are a vertex too.
+    (vertex_of, members)
+}
+
+/// Step 3b of [`build_drawing`]: two lines passing through each other away from their ends (an
+/// X junction, e.g. where the cracks between four flush blocks meet) are a vertex too.
+fn add_crossings(lines: &[FittedLine], points: &mut Vec<DVec2>, opts: &VertexOptions) {
     for (i, a) in lines.iter().enumerate() {
         for b in &lines[i + 1..] {
             let Some(p) = intersect(a, b) else { continue };
@@ -282,19 +323,28 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             }
         }
     }
-    // 4. Attach vertices to lines: at an end (candidate of that end), or on the interior.
+}
+
+/// Step 4 of [`build_drawing`]: each line's vertices with their positions along it, at its
+/// ends (the candidate of that end, or a new free end) and on its interior.
+fn attach_vertices(
+    lines: &[FittedLine],
+    cands: &[Candidate],
+    vertex_of: &[usize],
+    points: &mut Vec<DVec2>,
+    opts: &VertexOptions,
+) -> Vec<Vec<(f64, usize)>> {
     let mut on_line: Vec<Vec<(f64, usize)>> = vec![Vec::new(); lines.len()];
     let mut end_vertex: Vec<Option<usize>> = vec![None; lines.len() * 2];
-    for (ci, c) in cands.iter().enumerate() {
-        let v = root_to_vertex[sets.find(ci)].unwrap_or(0);
+    for (c, &v) in cands.iter().zip(vertex_of) {
         end_vertex[c.line * 2 + c.end] = Some(v);
     }
     for (li, l) in lines.iter().enumerate() {
-        for e in 0..2 {
+        for (e, end) in [l.from_px, l.to_px].into_iter().enumerate() {
             let v = match end_vertex[li * 2 + e] {
                 Some(v) => v,
                 None => {
-                    points.push(ends(l)[e]);
+                    points.push(end);
                     points.len() - 1
                 }
             };
@@ -314,7 +364,12 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             }
         }
     }
-    // 5. Lines between consecutive vertices along each fitted line.
+    on_line
+}
+
+/// Step 5 of [`build_drawing`]: the drawing's lines, between consecutive vertices along each
+/// fitted line.
+fn lines_between_vertices(mut on_line: Vec<Vec<(f64, usize)>>) -> Vec<[usize; 2]> {
     let mut drawing_lines: Vec<[usize; 2]> = Vec::new();
     for vs in &mut on_line {
         vs.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -326,7 +381,7 @@ fn build_drawing(lines: &[FittedLine], opts: &VertexOptions) -> LineDrawing {
             }
         }
     }
-    compact(points, drawing_lines)
+    drawing_lines
 }
 
 /// Drops points no line uses and finalizes the drawing.

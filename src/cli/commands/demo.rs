@@ -12,8 +12,7 @@ use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
 use blockworld::output::encode_png_rgb8;
 use blockworld::physics::{settle, SettleParams};
-use blockworld::pipeline::{observe, PipelineOptions};
-use blockworld::recognize::recognize;
+use blockworld::pipeline::{observe, recognize_rendered, PipelineOptions};
 use blockworld::render::{RenderOptions, RenderedView, Renderer};
 use blockworld::scene::{read_scene, reconstruction_to_json, Reconstruction, Scene};
 use blockworld::score::score_reconstruction;
@@ -127,8 +126,8 @@ fn recognize_summary(
 ) -> anyhow::Result<Reconstruction> {
     let opts = PipelineOptions::default();
     let (observed, _) = observe(views, &opts.source).context("vision on the demo views")?;
-    let recognition =
-        recognize(&observed, &opts.recognize).context("recognizing the demo views")?;
+    let recognition = recognize_rendered(views, &observed, &opts.source, &opts.recognize)
+        .context("recognizing the demo views")?;
     let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
     let path = out.join("reconstruction.json");
     blockworld::io::write_atomic(&path, reconstruction_to_json(&recon).as_bytes())
