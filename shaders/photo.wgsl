@@ -20,8 +20,12 @@ struct Photo {
     // linear part of light_clip_from_world): the receiver's plane in the shadow map, so each
     // filter tap compares against the receiver's own depth there, not its centre's.
     light_clip_normal: mat4x4<f32>,
-    // x: smallest penumbra radius, mm (even contact shadows are soft); yzw: unused.
+    // x: smallest penumbra radius, mm (even contact shadows are soft); y: weight of the
+    // specular highlight (0: matte); z: its Blinn-Phong exponent; w: unused.
     soft_min: vec4<f32>,
+    // The eye: position (w = 1, perspective) or unit direction towards it (w = 0,
+    // orthographic); read only for the highlight.
+    eye: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> photo: Photo;
@@ -130,14 +134,27 @@ fn light_share(p: vec3<f32>, n: vec3<f32>, turn: f32) -> f32 {
     return lit / f32(FILTER_TAPS);
 }
 
+// The Blinn-Phong highlight at world point `p` with normal `n` (before the light's share):
+// weight * intensity * (n . h)^exponent, h halfway between the light and the eye.
+fn highlight(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let to_eye = normalize(photo.eye.xyz - p * photo.eye.w);
+    let h = normalize(photo.towards_light.xyz + to_eye);
+    return photo.soft_min.y * photo.towards_light.w * pow(max(dot(n, h), 0.0), photo.soft_min.z);
+}
+
 @fragment
 fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
     let cos_light = dot(in.normal, photo.towards_light.xyz);
     var direct = 0.0;
+    var gloss = 0.0;
     if (cos_light > 0.0) {
-        direct = cos_light * photo.towards_light.w * light_share(in.world_mm, in.normal, pixel_turn(in.clip.xy));
+        let share = light_share(in.world_mm, in.normal, pixel_turn(in.clip.xy));
+        direct = cos_light * photo.towards_light.w * share;
+        if (photo.soft_min.y > 0.0 && in.albedo > 0.0) {
+            gloss = highlight(in.world_mm, in.normal) * share;
+        }
     }
-    let radiance = in.albedo * (photo.params.x + direct);
+    let radiance = in.albedo * (photo.params.x + direct) + gloss;
     return vec4<f32>(radiance, 0.0, 0.0, 1.0);
 }
 
@@ -146,6 +163,11 @@ fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
 // floor outside the shadow camera's frame. The same radiance fs_photo gives there.
 @fragment
 fn fs_photo_unshadowed(in: VertexOut) -> @location(0) vec4<f32> {
-    let direct = max(dot(in.normal, photo.towards_light.xyz), 0.0) * photo.towards_light.w;
-    return vec4<f32>(in.albedo * (photo.params.x + direct), 0.0, 0.0, 1.0);
+    let cos_light = dot(in.normal, photo.towards_light.xyz);
+    let direct = max(cos_light, 0.0) * photo.towards_light.w;
+    var gloss = 0.0;
+    if (photo.soft_min.y > 0.0 && in.albedo > 0.0 && cos_light > 0.0) {
+        gloss = highlight(in.world_mm, in.normal);
+    }
+    return vec4<f32>(in.albedo * (photo.params.x + direct) + gloss, 0.0, 0.0, 1.0);
 }

@@ -41,8 +41,10 @@ pub struct ViewArgs {
     /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
     #[arg(long, default_value = "vulkan")]
     pub backend: String,
-    /// Picture look: lineart (flat faces with drawn seams, default) or photo (shading, shadows
-    /// and a camera sensor; docs/rendering.md "Photographic look").
+    /// Picture look: lineart (flat faces with drawn seams, default), photo (shading, shadows
+    /// and a camera sensor; docs/rendering.md "Photographic look") or photo_varied (the photo look with
+    /// light, shadows, edges, albedos, sensor, size and projection drawn per scene;
+    /// docs/varied-look.md).
     #[arg(long, default_value = "lineart")]
     pub look: String,
     /// Photo look: largest turn of the key light per scene, degrees (seeded).
@@ -138,7 +140,10 @@ impl ViewArgs {
             noise_sigma: self.noise,
             seed: self.seed,
             look: Look::parse(&self.look).with_context(|| {
-                format!("--look: unknown {:?}; use lineart or photo", self.look)
+                format!(
+                    "--look: unknown {:?}; use lineart, photo or photo_varied",
+                    self.look
+                )
             })?,
             downsample: self.downsample,
             photo: self.photo_options()?,

@@ -329,6 +329,20 @@ fn produce_scene(
         let written = crate::output::write_rendered_views_with(&scene_dir, &views, opts.file_sync)
             .map_err(io_err(&scene_dir))?;
         files.extend(written.into_iter().map(|w| (w.name, w.sha256)));
+        // The varied look's draw (docs/varied-look.md "look.json").
+        let scene_opts = RenderOptions {
+            seed: spec.seed,
+            ..opts.render
+        };
+        if let Some(draw) = scene_opts.look_draw(drawn.scene.blocks.len()) {
+            let path = scene_dir.join(crate::render::photo::varied::LOOK_FILE);
+            let text = draw.to_json();
+            write_atomic_with(&path, text.as_bytes(), opts.file_sync).map_err(io_err(&path))?;
+            files.insert(
+                crate::render::photo::varied::LOOK_FILE.to_string(),
+                sha256_hex(text.as_bytes()),
+            );
+        }
     }
     let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {
         supported: true,

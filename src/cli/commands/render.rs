@@ -44,6 +44,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })
     .with_context(|| format!("rendering {}", args.scene.display()))?;
     write_and_list(&args.out, &rendered)?;
+    if let Some(draw) = opts.look_draw(scene.blocks.len()) {
+        let path = args.out.join(blockworld::render::photo::varied::LOOK_FILE);
+        let text = draw.to_json();
+        blockworld::io::write_atomic(&path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+        outln!(
+            "wrote {}  sha256 {}",
+            path.display(),
+            blockworld::dataset::sha256_hex(text.as_bytes())
+        )?;
+    }
     Ok(())
 }
 

@@ -46,8 +46,12 @@ pub struct PhotoUniforms {
     /// World normal to shadow clip-space plane normal (inverse transpose of the linear part of
     /// `light_clip_from_world`), column-major.
     pub light_clip_normal: [f32; 16],
-    /// Smallest penumbra radius (mm), then unused.
+    /// Smallest penumbra radius (mm), the specular highlight's weight (0: matte, no
+    /// highlight), its Blinn-Phong exponent, then unused.
     pub soft_min: [f32; 4],
+    /// The eye: its position, world mm, with w = 1 (perspective), or the unit direction
+    /// towards it with w = 0 (orthographic); read only for the highlight.
+    pub eye: [f32; 4],
 }
 
 /// Pipelines, shadow map and cached targets of the photo look; one per renderer.

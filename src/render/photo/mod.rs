@@ -10,6 +10,7 @@
 
 pub mod mesh;
 pub mod sensor;
+pub mod varied;
 
 use super::gpu::photo::PhotoUniforms;
 use super::{
@@ -32,6 +33,10 @@ pub enum Look {
     LineArt,
     /// Shading, shadows and a camera sensor, no drawn ink (docs/rendering.md "Photographic look").
     Photo,
+    /// The photo look with its light, shadows, edges, albedos, gloss, sensor, picture size and
+    /// projection drawn per scene from the scene's seed (docs/varied-look.md "What is drawn").
+    #[serde(rename = "photo_varied")]
+    PhotoVaried,
 }
 
 impl Look {
@@ -40,11 +45,12 @@ impl Look {
         *self == Look::LineArt
     }
 
-    /// Parses `lineart` or `photo` (any case).
+    /// Parses `lineart`, `photo` or `photo_varied` (any case).
     pub fn parse(s: &str) -> Option<Look> {
         match s.trim().to_ascii_lowercase().as_str() {
             "lineart" | "line-art" => Some(Look::LineArt),
             "photo" => Some(Look::Photo),
+            "photo_varied" | "photo-varied" => Some(Look::PhotoVaried),
             _ => None,
         }
     }
@@ -135,6 +141,8 @@ pub struct PhotoSetup {
     written: Camera,
     light: mesh::KeyLight,
     mesh: mesh::PhotoMesh,
+    /// The highlight's weight and Blinn-Phong exponent (weight 0: matte).
+    gloss: [f64; 2],
 }
 
 impl PhotoSetup {
@@ -151,7 +159,38 @@ impl PhotoSetup {
             written,
             light,
             mesh,
+            gloss: [0.0, 0.0],
         }
+    }
+
+    /// The setups of `view` for the varied look's `draw`, one per light (`opts` are the draw's
+    /// render options, [`varied::LookDraw::render_options`]).
+    pub fn varied(
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
+        draw: &varied::LookDraw,
+    ) -> Vec<PhotoSetup> {
+        let (full, written) = view_cameras(scene, view, opts);
+        let reach_mm = BLOCKER_SEARCH_MM + SHADOW_REACH_MARGIN_MM;
+        let look = draw.mesh_look();
+        draw.key_lights(view)
+            .into_iter()
+            .map(|light| PhotoSetup {
+                full,
+                written,
+                mesh: mesh::photo_mesh_with(
+                    scene,
+                    &full,
+                    &draw.block_albedos,
+                    light.towards_light,
+                    reach_mm,
+                    &look,
+                ),
+                light,
+                gloss: [draw.gloss, draw.shininess],
+            })
+            .collect()
     }
 
     /// The same view with its shadows taken out: no shadow casters, and every radiance
@@ -193,6 +232,9 @@ impl Renderer {
         view: CornerView,
         opts: &RenderOptions,
     ) -> Result<RenderedView, RenderError> {
+        if opts.look == Look::PhotoVaried {
+            return self.render_varied(scene, view, opts);
+        }
         if opts.look == Look::Photo {
             let setup = PhotoSetup::new(scene, view, opts);
             return self.render_photo_parts(scene, view, opts, &setup, PhotoParts::ALL);
@@ -239,6 +281,47 @@ impl Renderer {
         Ok(written_view(setup.written, gray, truth, opts, view))
     }
 
+    /// The varied look of `view` (docs/varied-look.md): the scene's draw
+    /// ([`RenderOptions::look_draw`]) rendered one light at a time, the radiances summed and
+    /// scaled by the drawn exposure, then the drawn sensor; the ground truth as in the photo
+    /// look, at the drawn written size.
+    fn render_varied(
+        &self,
+        scene: &Scene,
+        view: CornerView,
+        opts: &RenderOptions,
+    ) -> Result<RenderedView, RenderError> {
+        let draw = varied::LookDraw::draw(opts.seed, scene.blocks.len(), opts.camera.elevation_deg);
+        let drawn = draw.render_options(opts);
+        self.check_options(&drawn)?;
+        let setups = PhotoSetup::varied(scene, view, &drawn, &draw);
+        let written = setups
+            .first()
+            .map(|s| s.written)
+            .ok_or_else(|| RenderError::Options("the varied look drew no light".into()))?;
+        let mut radiance: Option<RadianceImage> = None;
+        for setup in &setups {
+            let r = self.submit_photo(scene, setup)?.radiance()?;
+            radiance = Some(match radiance {
+                None => r,
+                Some(mut sum) => {
+                    sum.values
+                        .iter_mut()
+                        .zip(&r.values)
+                        .for_each(|(s, v)| *s += v);
+                    sum
+                }
+            });
+        }
+        let mut radiance = radiance.unwrap_or_else(|| RadianceImage::filled(1, 1, 0.0));
+        let gain = draw.sensor.gain as f32;
+        radiance.values.iter_mut().for_each(|v| *v *= gain);
+        let truth = self.draw_sharp(scene, &written, 1)?;
+        let seed = noise_seed(opts.seed, view) ^ 0x005E_450B;
+        let gray = drawn.photo.sensor.expose(&radiance, seed);
+        Ok(written_view(written, gray, truth, &drawn, view))
+    }
+
     /// The line-art draw of the sharp solids seen by `camera`: gray, depth and ids.
     fn draw_sharp(
         &self,
@@ -283,7 +366,7 @@ impl Renderer {
         scene: &Scene,
         setup: &PhotoSetup,
     ) -> Result<PendingExposure<'_>, RenderError> {
-        let uniforms = photo_uniforms(scene, &setup.full, &setup.light);
+        let uniforms = photo_uniforms(scene, &setup.full, &setup.light, setup.gloss);
         let [w, h] = setup.full.size_px;
         let size = [w * SUPERSAMPLING, h * SUPERSAMPLING];
         let pending = self
@@ -330,7 +413,12 @@ impl PendingExposure<'_> {
 /// The shader constants of one photo view: the picture's camera, and an orthographic shadow
 /// camera looking along the key light that frames every block (what lies outside its frame
 /// is never shadowed: nothing there casts a shadow), deep enough to reach the floor.
-fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> PhotoUniforms {
+fn photo_uniforms(
+    scene: &Scene,
+    camera: &Camera,
+    light: &mesh::KeyLight,
+    [gloss, shininess]: [f64; 2],
+) -> PhotoUniforms {
     let points: Vec<DVec3> = scene
         .blocks
         .iter()
@@ -386,7 +474,14 @@ fn photo_uniforms(scene: &Scene, camera: &Camera, light: &mesh::KeyLight) -> Pho
             BLOCKER_SEARCH_MM as f32,
             MAX_PENUMBRA_MM as f32,
         ],
-        soft_min: [MIN_PENUMBRA_MM as f32, 0.0, 0.0, 0.0],
+        soft_min: [MIN_PENUMBRA_MM as f32, gloss as f32, shininess as f32, 0.0],
+        eye: if camera.is_orthographic() {
+            camera.towards_eye().extend(0.0)
+        } else {
+            camera.eye().extend(1.0)
+        }
+        .as_vec4()
+        .to_array(),
     }
 }
 

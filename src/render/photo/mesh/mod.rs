@@ -16,7 +16,9 @@ use super::super::gpu::mesh::light_in_world;
 use crate::camera::{Camera, FRONT_FACING_COS};
 use crate::geom::DVec3;
 use crate::scene::Scene;
-pub use polyhedron::{bevelled_block, find_contacts, Contacts, MeshPolygon};
+pub use polyhedron::{
+    bevelled_block, find_contacts, profiled_block, Contacts, EdgeProfile, MeshPolygon,
+};
 use polyhedron::{clip_convex, polygon_area, push_polygon};
 use rand::{Rng, SeedableRng};
 use reach::{grow_box, may_be_shadowed, shadow_reach, swept_box_meets, LightFrame};
@@ -41,6 +43,25 @@ pub const KEY_LIGHT_RADIUS_DEG: f64 = 25.0;
 
 /// Albedo of the floor (dark cloth): lit floor well below a block's darkest lit face.
 pub const PHOTO_FLOOR_ALBEDO: f64 = 0.15;
+
+/// The shape and floor of the render mesh: the photo look's chamfer and dark floor by default,
+/// drawn per scene by the varied look (docs/varied-look.md "What is drawn").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshLook {
+    /// The block edges' profile; default a [`BEVEL_MM`] chamfer.
+    pub edge: EdgeProfile,
+    /// The floor's albedo; default [`PHOTO_FLOOR_ALBEDO`].
+    pub floor_albedo: f64,
+}
+
+impl Default for MeshLook {
+    fn default() -> Self {
+        MeshLook {
+            edge: EdgeProfile::chamfer(BEVEL_MM),
+            floor_albedo: PHOTO_FLOOR_ALBEDO,
+        }
+    }
+}
 
 /// One vertex as `shaders/photo.wgsl` reads it (`VertexIn`).
 #[repr(C)]
@@ -282,6 +303,25 @@ pub fn photo_mesh(
     towards_light: DVec3,
     reach_mm: f64,
 ) -> PhotoMesh {
+    photo_mesh_with(
+        scene,
+        camera,
+        albedos,
+        towards_light,
+        reach_mm,
+        &MeshLook::default(),
+    )
+}
+
+/// [`photo_mesh`] with the given edge profile and floor albedo.
+pub fn photo_mesh_with(
+    scene: &Scene,
+    camera: &Camera,
+    albedos: &[f64],
+    towards_light: DVec3,
+    reach_mm: f64,
+    look: &MeshLook,
+) -> PhotoMesh {
     let solids: Vec<Vec<DVec3>> = scene.blocks.iter().map(|b| b.world_vertices()).collect();
     let boxes: Vec<(DVec3, DVec3)> = solids
         .iter()
@@ -293,6 +333,7 @@ pub fn photo_mesh(
         reach_mm,
         solids: &solids,
         boxes: &boxes,
+        floor_albedo: look.floor_albedo,
     };
     let mut parts = MeshParts::new(camera, towards_light);
     let contacts = find_contacts(scene);
@@ -307,7 +348,7 @@ pub fn photo_mesh(
             .map(|t| if *t { CRACK_MM / 2.0 } else { 0.0 })
             .collect();
         // The first polygons are the block's faces, one per catalog face (`bevelled_block`).
-        for (k, polygon) in bevelled_block(block, BEVEL_MM, &retract_mm)
+        for (k, polygon) in profiled_block(block, &look.edge, &retract_mm)
             .iter()
             .enumerate()
         {
@@ -330,6 +371,7 @@ struct Reach<'a> {
     reach_mm: f64,
     solids: &'a [Vec<DVec3>],
     boxes: &'a [(DVec3, DVec3)],
+    floor_albedo: f64,
 }
 
 impl Reach<'_> {
@@ -353,7 +395,7 @@ impl Reach<'_> {
             return;
         }
         if !is_face {
-            // A bevel strip or corner, a twentieth of a millimetre wide: whole.
+            // A bevel strip or corner, at most half a millimetre wide: whole.
             parts.push(Part::Shadowed, corners, outward, albedo);
             return;
         }
@@ -394,14 +436,9 @@ impl Reach<'_> {
                 .map(|q| self.frame.onto_plane(*q, floor[0], DVec3::Y))
                 .collect();
         let shadowed_floor = clip_convex(&floor, &reached, DVec3::Y);
-        parts.push(
-            Part::Shadowed,
-            &shadowed_floor,
-            DVec3::Y,
-            PHOTO_FLOOR_ALBEDO,
-        );
+        parts.push(Part::Shadowed, &shadowed_floor, DVec3::Y, self.floor_albedo);
         let lowered = floor_corners(camera, -OUTER_FLOOR_DROP_MM);
-        parts.push(Part::Rest, &lowered, DVec3::Y, PHOTO_FLOOR_ALBEDO);
+        parts.push(Part::Rest, &lowered, DVec3::Y, self.floor_albedo);
     }
 }
 
