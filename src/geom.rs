@@ -18,6 +18,18 @@ pub use glam::{DMat3, DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2,
 /// same tolerance serves validation, ground truth and settling (docs/formats.md "Conventions").
 pub const CONTACT_TOL_MM: f64 = 0.05;
 
+/// Newell's vector of a closed polygon: the sum of `p_i x p_(i+1)` around it, normal to a
+/// planar polygon, pointing the way its loop turns counter-clockwise, twice its area long
+/// (zero for a degenerate one). The one home of Newell's method: face normals of the catalog,
+/// the exporters, the viewer and its hidden-line removal normalize it as each needs.
+pub fn newell_vector(polygon: &[DVec3]) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for (i, a) in polygon.iter().enumerate() {
+        n += a.cross(polygon[(i + 1) % polygon.len()]);
+    }
+    n
+}
+
 /// Half the side of the world's square floor, mm: every block vertex must have |x| and |z| at
 /// most this, and y in `0..=WORLD_HEIGHT_MM` (docs/formats.md "Conventions", world extent). It is the
 /// physics floor (a 20 m square, `physics`), and it keeps every coordinate far inside f32's
@@ -267,6 +279,16 @@ impl UnionFind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn newell_vector_is_twice_the_area_along_the_counter_clockwise_normal() {
+        let square = [DVec3::ZERO, DVec3::X, DVec3::X + DVec3::Y, DVec3::Y];
+        assert_eq!(newell_vector(&square), DVec3::Z * 2.0);
+        let mut clockwise = square;
+        clockwise.reverse();
+        assert_eq!(newell_vector(&clockwise), DVec3::Z * -2.0);
+        assert_eq!(newell_vector(&[DVec3::X, DVec3::X * 2.0]), DVec3::ZERO);
+    }
 
     #[test]
     fn the_sweep_finds_the_same_box_pairs_as_comparing_every_pair() {

@@ -46,6 +46,28 @@ static CHAPTER_VII: Suite = Suite::new(
 /// The basic suite in the photographic look (docs/rendering.md "Photographic look"), 512 x 480.
 static PHOTO: Suite = Suite::new("scenes/bench", Look::Photo, "golden/accuracy_photo.json");
 
+/// The first [`VARIED_SCENES`] scenes of the basic suite, each in its own draw of the varied
+/// look (docs/varied-look.md), seeded as `bench accuracy --look photo_varied --seed 33` seeds
+/// them: a small fixed draw CI can afford.
+static VARIED: Suite = Suite::new(
+    "scenes/bench",
+    Look::PhotoVaried,
+    "golden/accuracy_varied.json",
+);
+
+/// Scenes of the varied suite.
+const VARIED_SCENES: usize = 24;
+
+/// The dataset seed of the varied suite's draws.
+const VARIED_SEED: u64 = 33;
+
+/// The varied suite's options for its `index`-th scene: the scene's own seed.
+fn varied_options(index: usize) -> PipelineOptions {
+    let mut o = VARIED.options();
+    o.render.seed = blockworld::dataset::scene_seed(VARIED_SEED, index as u64);
+    o
+}
+
 impl Suite {
     const fn new(dir: &'static str, look: Look, golden: &'static str) -> Suite {
         Suite {
@@ -79,6 +101,11 @@ impl Suite {
                         read_scene(p).unwrap_or_else(|e| panic!("{e}")),
                     )
                 })
+                .take(if self.look == Look::PhotoVaried {
+                    VARIED_SCENES
+                } else {
+                    usize::MAX
+                })
                 .collect()
         })
     }
@@ -89,6 +116,13 @@ impl Suite {
         self.runs
             .get_or_init(|| {
                 let renderer = common::renderer()?;
+                if self.look == Look::PhotoVaried {
+                    let runs = self.scenes().iter().enumerate();
+                    return Some(
+                        runs.map(|(i, (id, s))| run_scene(&renderer, id, s, &varied_options(i)))
+                            .collect(),
+                    );
+                }
                 Some(run_suite(&renderer, self.scenes(), &self.options()))
             })
             .as_deref()
@@ -115,6 +149,63 @@ fn the_trapezoidal_block_and_the_round_part_do_not_regress_against_golden() {
 #[test]
 fn the_photographic_look_does_not_regress_against_golden() {
     holds_against_golden(&PHOTO);
+}
+
+#[test]
+fn the_varied_photo_look_does_not_regress_against_golden() {
+    holds_against_golden(&VARIED);
+}
+
+/// The same on the varied look's small fixed draw.
+#[test]
+fn the_varied_photo_look_is_rarely_confidently_wrong() {
+    rarely_confidently_wrong(&VARIED);
+}
+
+/// The varied gate is proven able to fail: the same draws with a worse look (Gaussian
+/// noise of 60 gray levels on top of the sensor's) on scenes golden holds as exact.
+#[test]
+fn the_varied_gate_fails_on_a_worse_look() {
+    let Some(renderer) = common::renderer() else {
+        return;
+    };
+    let golden = golden(&VARIED);
+    let exact: Vec<&str> = golden
+        .scenes
+        .iter()
+        .filter(|g| g.verdict == Verdict::Exact)
+        .map(|g| g.id.as_str())
+        .take(3)
+        .collect();
+    assert!(
+        !exact.is_empty(),
+        "golden holds no exact scene to prove the gate"
+    );
+    let results: Vec<_> = VARIED
+        .scenes()
+        .iter()
+        .enumerate()
+        .filter(|(_, (id, _))| exact.contains(&id.as_str()))
+        .map(|(i, (id, s))| {
+            let mut worse = varied_options(i);
+            worse.render.noise_sigma = 60.0;
+            run_scene(&renderer, id, s, &worse).result
+        })
+        .collect();
+    let mut partial = golden.clone();
+    partial.scenes.retain(|g| exact.contains(&g.id.as_str()));
+    let failures = check_gate(&partial, &results);
+    for f in &failures {
+        println!("{f}");
+    }
+    for id in &exact {
+        assert!(
+            failures
+                .iter()
+                .any(|f| matches!(f, GateFailure::VerdictWorse { id: x, .. } if x == id)),
+            "the worse look on {id} went unnoticed: {failures:?}"
+        );
+    }
 }
 
 /// Prints the suite's verdicts and fails on a regression against its golden file (or writes

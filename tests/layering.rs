@@ -17,7 +17,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("linedraw", &["scene", "drawing", "camera", "geom"]),
     (
         "render",
-        &["scene", "drawing", "linedraw", "camera", "geom"],
+        &["scene", "drawing", "linedraw", "camera", "geom", "io"],
     ),
     ("output", &["render", "drawing", "camera", "io", "geom"]),
     ("vision", &["drawing", "camera", "geom"]),
@@ -34,7 +34,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     ("csg", &["recognize", "scene", "camera", "geom"]),
     ("kanade", &["drawing", "camera", "geom"]),
-    ("view", &["scene", "drawing", "camera", "geom"]),
+    ("view", &["scene", "drawing", "linedraw", "camera", "geom"]),
     ("export", &["scene", "drawing", "geom", "io"]),
     (
         "pipeline",

@@ -3,7 +3,7 @@
 //! normal (sharp block edges, as in the thesis's line drawings). No glTF types here.
 
 use super::ExportError;
-use crate::geom::DVec3;
+use crate::geom::{newell_vector, DVec3};
 use crate::scene::BlockType;
 
 /// Metres per millimetre: glTF 2.0 lengths are metres, blockworld's are millimetres.
@@ -92,11 +92,7 @@ fn face_corners_mm(block_type: &BlockType, face_index: usize) -> Result<Vec<DVec
 
 /// Outward unit normal of a counter-clockwise loop (Newell's method), `None` for zero area.
 fn face_normal(corners: &[DVec3]) -> Option<DVec3> {
-    let n = corners
-        .iter()
-        .zip(corners.iter().cycle().skip(1))
-        .fold(DVec3::ZERO, |acc, (a, b)| acc + a.cross(*b));
-    n.try_normalize()
+    newell_vector(corners).try_normalize()
 }
 
 fn to_f32(v: DVec3) -> [f32; 3] {

@@ -37,6 +37,13 @@
 //!    the snap distance become one point, and a line is split where another line ends on its
 //!    interior (the T junctions); codes and junctions come from [`LineDrawing::finalize`].
 //!
+//! ## The viewer's hidden-line removal
+//! [`eye_space`] is the other hidden-line removal, the one the viewer (`view`, Chapter VI-VII)
+//! draws with: in eye coordinates with hither clipping, for a camera that may stand inside the
+//! scene, and without line kinds. It shares the interval complement
+//! ([`unit_interval_complement`]), Newell's normal ([`crate::geom::newell_vector`]) and the
+//! contact tolerance ([`CONTACT_TOL_MM`]) with the exact drawing above.
+//!
 //! ## Round parts
 //! A round part's own lines come from `round` in closed form (rims as chords with every end on
 //! the exact circle, flagged in [`LineDrawing::curved_lines`]; the silhouette generators at the
@@ -54,6 +61,7 @@
 
 mod assemble;
 mod classify;
+pub mod eye_space;
 mod geometry;
 mod round;
 mod visibility;
@@ -130,9 +138,38 @@ pub fn visible_line_drawing_with_progress(
     assemble::assemble_drawing(&geo, pieces, tol)
 }
 
+/// `[0, 1]` minus the union of the parameter intervals `hidden` (sorted in place by their
+/// start), in order: what is left visible of an edge once each hiding face has taken its
+/// interval. Shared by the exact drawing (`visibility`) and the viewer's [`eye_space`].
+pub fn unit_interval_complement(hidden: &mut [[f64; 2]]) -> Vec<[f64; 2]> {
+    hidden.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut out = Vec::new();
+    let mut start = 0.0f64;
+    for h in hidden.iter() {
+        if h[0] > start {
+            out.push([start, h[0]]);
+        }
+        start = start.max(h[1]);
+    }
+    if start < 1.0 {
+        out.push([start, 1.0]);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn complement_of_overlapping_intervals() {
+        let mut h = [[0.5, 0.7], [0.1, 0.2], [0.6, 0.8]];
+        assert_eq!(
+            unit_interval_complement(&mut h),
+            vec![[0.0, 0.1], [0.2, 0.5], [0.8, 1.0]]
+        );
+        assert!(unit_interval_complement(&mut [[0.0, 1.0]]).is_empty());
+    }
     use crate::camera::{CameraOptions, CornerView};
     use crate::scene::Block;
     use glam::DVec3;

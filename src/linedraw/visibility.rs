@@ -4,7 +4,7 @@
 //! occlusion). A face whose plane contains the edge never hides it.
 
 use super::geometry::{Edge, Face, SceneGeometry};
-use super::TruthTolerances;
+use super::{unit_interval_complement, TruthTolerances};
 use crate::camera::Projector;
 use crate::geom::DVec2;
 
@@ -52,7 +52,7 @@ pub(super) fn visible_intervals(
                 hidden.push(h);
             }
         }
-        let intervals = complement(&mut hidden);
+        let intervals = unit_interval_complement(&mut hidden);
         if !intervals.is_empty() {
             out.push(EdgeIntervals {
                 edge: ei,
@@ -124,23 +124,6 @@ pub(super) fn clip_segment_to_polygon(
     Some([lo, hi])
 }
 
-/// `[0, 1]` minus the union of `hidden` (sorted in place).
-fn complement(hidden: &mut [[f64; 2]]) -> Vec<[f64; 2]> {
-    hidden.sort_by(|a, b| a[0].total_cmp(&b[0]));
-    let mut out = Vec::new();
-    let mut start = 0.0f64;
-    for h in hidden.iter() {
-        if h[0] > start {
-            out.push([start, h[0]]);
-        }
-        start = start.max(h[1]);
-    }
-    if start < 1.0 {
-        out.push([start, 1.0]);
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -162,12 +145,5 @@ mod tests {
         assert!(
             clip_segment_to_polygon(DVec2::new(2.0, 2.0), DVec2::new(3.0, 2.0), &sq, 0.0).is_none()
         );
-    }
-
-    #[test]
-    fn complement_of_overlapping_intervals() {
-        let mut h = [[0.5, 0.7], [0.1, 0.2], [0.6, 0.8]];
-        assert_eq!(complement(&mut h), vec![[0.0, 0.1], [0.2, 0.5], [0.8, 1.0]]);
-        assert!(complement(&mut [[0.0, 1.0]]).is_empty());
     }
 }

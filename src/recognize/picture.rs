@@ -26,7 +26,7 @@ use super::verify::{
 };
 use super::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{gray_at, noise_levels, DVec2, DVec3};
+use crate::geom::{convex_hull, gray_at, inside_convex, noise_levels, DVec2, DVec3};
 use image::GrayImage;
 
 /// A view's picture with its noise and scale, read once.
@@ -411,11 +411,36 @@ fn tolerated_lines(
                 .iter()
                 .any(|p| offset_observed.contains(p));
             (ends_offset && !wide.unexplained_lines.contains(&k))
+                || is_cast_on_floor(drawn, observed, k, tol_px)
                 || unexplained_pieces(observed, observed.lines[k], drawn, tol_px)
                     .iter()
                     .all(|&[a, b]| edge_profile(picture, a, b).is_weak())
         })
         .collect()
+}
+
+/// `true` when observed line `k` can be the boundary of a shadow the blocks cast on the floor
+/// (Chapter II: a picture's lines come from discontinuities of illumination too, and a
+/// blocks-world reading keeps only those of orientation, range and reflectance; docs/
+/// recognizer-pictures.md "Cast shadows on the floor"): it leaves a corner of the redraw and
+/// runs out onto the floor, outside the convex hull of the redraw's points, to a free end no
+/// other observed line meets. A block the hypothesis lacks shows several lines meeting (its
+/// outline), never one lone line, so the excuse cannot hide one.
+fn is_cast_on_floor(drawn: &LineDrawing, observed: &LineDrawing, k: usize, tol_px: f64) -> bool {
+    let hull = convex_hull(&drawn.points);
+    let [i, j] = observed.lines[k];
+    let at_corner = |p: usize| {
+        let q = observed.points[p];
+        (0..drawn.points.len())
+            .any(|d| q.distance(drawn.points[d]) <= point_allowance_px(drawn, d, tol_px))
+    };
+    let free_on_floor = |p: usize| {
+        let q = observed.points[p];
+        lines_at(observed, p).count() == 1 && !inside_convex(&hull, q, tol_px)
+    };
+    let mid = observed.points[i].lerp(observed.points[j], 0.5);
+    let corner_to_floor = (at_corner(i) && free_on_floor(j)) || (at_corner(j) && free_on_floor(i));
+    corner_to_floor && !inside_convex(&hull, mid, 0.0)
 }
 
 /// Step 6 with the picture: the counts of [`picture_mismatch`] (all 0 = the view is
@@ -583,6 +608,49 @@ mod tests {
             Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0),
             Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0),
         ]
+    }
+
+    #[test]
+    fn a_lone_line_from_a_corner_onto_the_floor_is_a_cast_shadow_and_others_are_not() {
+        let blocks = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let drawn = views_of(&blocks, &[CornerView::Ne]).remove(0).drawing;
+        let tol_px = RecognizeOptions::default().tol_px;
+        // The lowest corner of the redraw, and the centre of its points.
+        let low = (0..drawn.points.len())
+            .min_by(|&a, &b| drawn.points[a].y.total_cmp(&drawn.points[b].y))
+            .unwrap();
+        let centre =
+            drawn.points.iter().fold(DVec2::ZERO, |a, p| a + *p) / drawn.points.len() as f64;
+        let out = (drawn.points[low] - centre).normalize();
+        let with_line = |to: DVec2, spur: bool| {
+            let mut d = drawn.clone();
+            d.points.push(to);
+            d.lines.push([low, d.points.len() - 1]);
+            if spur {
+                d.points.push(to + DVec2::new(20.0, 0.0));
+                d.lines.push([d.points.len() - 2, d.points.len() - 1]);
+            }
+            d
+        };
+        let corner = drawn.points[low];
+        let k = drawn.lines.len();
+        // A lone line from the corner out onto the floor, to a free end: excused.
+        let shadow = with_line(corner + out * 30.0, false);
+        assert!(is_cast_on_floor(&drawn, &shadow, k, tol_px));
+        // It can fail: the same line running into the block's faces, or meeting another
+        // line at its far end (an outline, as a missing block shows), is not excused.
+        let inward = with_line(corner - out * 30.0, false);
+        assert!(!is_cast_on_floor(&drawn, &inward, k, tol_px));
+        let outline = with_line(corner + out * 30.0, true);
+        assert!(!is_cast_on_floor(&drawn, &outline, k, tol_px));
+        // Nor a lone line that starts away from every corner of the redraw.
+        let mut apart = drawn.clone();
+        apart.points.push(corner + out * 10.0);
+        apart.points.push(corner + out * 40.0);
+        apart
+            .lines
+            .push([apart.points.len() - 2, apart.points.len() - 1]);
+        assert!(!is_cast_on_floor(&drawn, &apart, k, tol_px));
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! Renderer, ground truth, physics and scoring read shapes only through [`BlockType`], so a new
 //! block (the trapezoidal wedge of Chapter VII, Figure 7.1) is one more row in [`CATALOG`].
 
-use crate::geom::{bounds3, DVec3};
+use crate::geom::{bounds3, newell_vector, DVec3};
 
 /// Vertex indices of the six faces of a cuboid whose vertices follow [`cuboid_vertices`]'s order,
 /// each face counter-clockwise seen from outside.
@@ -377,12 +377,11 @@ impl BlockType {
     /// Outward unit normal of face `f` in block-local coordinates.
     pub fn face_normal(&self, f: usize) -> DVec3 {
         let face = self.faces()[f];
-        let v = |k: usize| DVec3::from_array(self.vertices_mm()[face[k] as usize]);
-        let mut n = DVec3::ZERO;
-        for k in 0..face.len() {
-            n += v(k).cross(v((k + 1) % face.len()));
-        }
-        n.normalize()
+        let corners: Vec<DVec3> = face
+            .iter()
+            .map(|&k| DVec3::from_array(self.vertices_mm()[k as usize]))
+            .collect();
+        newell_vector(&corners).normalize()
     }
 
     /// The polyhedron's edges as sorted vertex-index pairs, each once, with the two faces that

@@ -14,7 +14,6 @@
 mod clip;
 mod figures;
 mod font;
-mod hidden;
 mod panel;
 mod raster;
 mod svg;

@@ -3,10 +3,10 @@
 //! viewports, hidden surfaces and shading).
 
 use super::clip::{clip_line, point_at, Clipped};
-use super::hidden::{clip_polygon_to_hither, occluder, visible_parts, Occluder};
 use super::transform::{rotation_y, translation, ViewingTransform};
 use super::ViewError;
-use crate::geom::{bounds3, DVec2, DVec3};
+use crate::geom::{bounds3, newell_vector, DVec2, DVec3};
+use crate::linedraw::eye_space::{clip_polygon_to_hither, occluder, visible_parts, Occluder};
 use crate::scene::Scene;
 
 /// What a model is, which sets its colour: the one model of a plain view, or the truth and the
@@ -423,10 +423,7 @@ const AMBIENT: f64 = 0.35;
 /// (eye coordinates: x right, y up, z into the screen).
 fn shaded_face(t: &ViewingTransform, face_eye: &[DVec3], role: Role) -> PictureFace {
     let light = DVec3::new(-0.5, 0.7, -1.0).normalize();
-    let mut n = DVec3::ZERO;
-    for (i, a) in face_eye.iter().enumerate() {
-        n += a.cross(face_eye[(i + 1) % face_eye.len()]);
-    }
+    let n = newell_vector(face_eye);
     // Catalog faces run counter-clockwise seen from outside in a right-handed world; the eye
     // frame is left-handed, so the loop's Newell normal points inward: flip it.
     let outward = -n.normalize_or_zero();

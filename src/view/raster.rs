@@ -4,7 +4,7 @@
 
 use super::font::{text_pixels, text_width_px, GLYPH_H};
 use super::panel::{Panel, PictureFace, Role, Sheet};
-use crate::geom::{DVec2, DVec3};
+use crate::geom::{newell_vector, DVec2, DVec3};
 use image::{Rgb, RgbImage};
 
 /// Sheet background (white, like the thesis's printed figures).
@@ -150,10 +150,7 @@ fn fill_faces(img: &mut RgbImage, panel: &Panel, b: RasterBounds) {
 
 /// The plane (n, d: n·p = d) of a canonical polygon, `None` when degenerate or through the eye.
 fn plane_of(poly: &[DVec3]) -> Option<(DVec3, f64)> {
-    let mut n = DVec3::ZERO;
-    for (i, a) in poly.iter().enumerate() {
-        n += a.cross(poly[(i + 1) % poly.len()]);
-    }
+    let n = newell_vector(poly);
     let d = n.dot(*poly.first()?);
     (n.length() > 0.0 && d != 0.0).then_some((n, d))
 }

@@ -6,19 +6,23 @@
 //! missing file counts as `failed`). `--make-reference DIR` writes the constructed reference
 //! set (`score::make_reference_reconstructions`) that `tests/scorer_reference.rs` scores.
 //! `--family F --count N --seed S` draws the suite with the generator instead of reading it: the
-//! scenes `generate --family F --count N --seed S` writes, settled in memory (docs/accuracy.md "Scoring and the accuracy suite").
+//! scenes `generate --family F --count N --seed S` writes, settled in memory (docs/accuracy.md "Scoring and the accuracy suite"). With `--look photo_varied` every scene is rendered in its own draw of
+//! the varied look (its seed the scene's: `dataset::scene_seed(--seed, index)`, the seed
+//! `generate` gives it) and a second table counts the results per factor bin
+//! (docs/varied-look.md "Factors and bins").
 
 use crate::cli::commands::generate::parse_families;
 use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
-use blockworld::dataset::{draw_stable_scene, SceneSpec};
+use blockworld::dataset::{draw_stable_scene, scene_seed, SceneSpec};
 use blockworld::physics::SettleParams;
-use blockworld::pipeline::{run_suite, DrawingSource, PipelineOptions};
-use blockworld::render::Renderer;
+use blockworld::pipeline::{run_scene, run_suite, DrawingSource, PipelineOptions};
+use blockworld::render::photo::varied::{LookDraw, FACTORS};
+use blockworld::render::{Look, RenderOptions, Renderer};
 use blockworld::scene::{read_reconstruction, read_scene, reconstruction_to_json, Scene};
 use blockworld::score::{
     check_gate, make_reference_reconstructions, score_suite_scene, summarize_by_family,
-    FamilySummary, Golden, NoReconstruction, SceneResult, ScoreOptions, BLESS_COMMAND,
+    FamilySummary, Golden, NoReconstruction, SceneResult, ScoreOptions, Verdict, BLESS_COMMAND,
 };
 use blockworld::vision::VisionOptions;
 use std::path::{Path, PathBuf};
@@ -81,6 +85,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let families = summarize_by_family(&results);
     print!("{}", family_table(&families));
+    let looks = scene_looks(&suite, &render, args.view.seed);
+    if !looks.is_empty() {
+        print!("{}", factor_table(&results, &looks));
+    }
     let wrong: Vec<&str> = results
         .iter()
         .filter(|r| r.confidently_wrong)
@@ -130,6 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "projection": args.view.projection,
         "families": families,
         "scenes": results,
+        "looks": looks.iter().map(|d| serde_json::json!({"seed": d.seed, "bins": d.bins})).collect::<Vec<_>>(),
         "undecided": undecided.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
     });
     if let Some(parent) = args.json_out.parent() {
@@ -176,7 +185,21 @@ fn run_recognizer(
         },
         ..PipelineOptions::default()
     };
-    let runs = run_suite(&renderer, suite, &opts);
+    let runs = if opts.render.look == Look::PhotoVaried {
+        // Each scene in its own draw of the look, seeded as `generate` seeds it.
+        let seed = args.view.seed;
+        suite
+            .iter()
+            .enumerate()
+            .map(|(i, (id, scene))| {
+                let mut o = opts.clone();
+                o.render.seed = scene_seed(seed, i as u64);
+                run_scene(&renderer, id, scene, &o)
+            })
+            .collect()
+    } else {
+        run_suite(&renderer, suite, &opts)
+    };
     let unseen = runs
         .iter()
         .map(|r| (r.result.id.clone(), r.unseen_blocks.len()))
@@ -327,6 +350,59 @@ fn family_table(rows: &[FamilySummary]) -> String {
             r.confidently_wrong,
             failures
         ));
+    }
+    t
+}
+
+/// Each suite scene's draw of the varied look, in suite order (seeded as `run_recognizer`
+/// seeds it); empty unless the look is `photo_varied`.
+fn scene_looks(suite: &[(String, Scene)], render: &RenderOptions, seed: u64) -> Vec<LookDraw> {
+    suite
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (_, scene))| {
+            RenderOptions {
+                seed: scene_seed(seed, i as u64),
+                ..*render
+            }
+            .look_draw(scene.blocks.len())
+        })
+        .collect()
+}
+
+/// The per-factor table: for every factor of the varied look and each of its bins, the
+/// supported scenes drawn in it and how many came out exact, declined or confidently wrong
+/// (docs/varied-look.md "Factors and bins").
+fn factor_table(results: &[SceneResult], looks: &[LookDraw]) -> String {
+    let mut t = String::from(
+        "| factor | bin | supported scenes | exact | declined | confidently wrong |\n|---|---|---|---|---|---|\n",
+    );
+    for factor in FACTORS {
+        let mut bins: Vec<&str> = looks
+            .iter()
+            .filter_map(|d| d.bins.get(factor).map(String::as_str))
+            .collect();
+        bins.sort_unstable();
+        bins.dedup();
+        for bin in bins {
+            let rs: Vec<&SceneResult> = results
+                .iter()
+                .zip(looks)
+                .filter(|(r, d)| r.supported && d.bins.get(factor).is_some_and(|b| b == bin))
+                .map(|(r, _)| r)
+                .collect();
+            let n = rs.len();
+            let exact = rs.iter().filter(|r| r.verdict == Verdict::Exact).count();
+            let declined = rs
+                .iter()
+                .filter(|r| r.verdict == Verdict::Unsupported)
+                .count();
+            let wrong = rs.iter().filter(|r| r.confidently_wrong).count();
+            t.push_str(&format!(
+                "| {factor} | {bin} | {n} | {exact} ({:.0}%) | {declined} | {wrong} |\n",
+                100.0 * exact as f64 / n.max(1) as f64
+            ));
+        }
     }
     t
 }

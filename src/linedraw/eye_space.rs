@@ -1,4 +1,4 @@
-//! Hidden-line removal, the first of Chapter VII's recommended additions ("the hidden surface
+//! The viewer's hidden-line removal, the first of Chapter VII's recommended additions ("the hidden surface
 //! removal and the shading models (Foley & Dam 1982) can be attached to the display").
 //!
 //! Exact, object-space, in the manner of Appel and Roberts: a convex face hides the points of
@@ -7,7 +7,8 @@
 //! affine function of the line's parameter, so the hidden part of a line is one interval per
 //! face, and the visible parts are what the union of those intervals leaves of [0, 1].
 
-use crate::geom::{DVec3, CONTACT_TOL_MM};
+use super::unit_interval_complement;
+use crate::geom::{newell_vector, DVec3, CONTACT_TOL_MM};
 
 /// How far behind a face's plane a point must be to count as hidden, and how far outside its
 /// pyramid it may be and still count as inside, in mm: the contact tolerance of docs/formats.md
@@ -51,10 +52,7 @@ pub fn occluder(polygon_eye_mm: &[DVec3]) -> Option<Occluder> {
 
 /// The unit normal of a planar polygon by Newell's method; `None` for a degenerate one.
 fn newell_normal(polygon: &[DVec3]) -> Option<DVec3> {
-    let mut n = DVec3::ZERO;
-    for (i, a) in polygon.iter().enumerate() {
-        n += a.cross(polygon[(i + 1) % polygon.len()]);
-    }
+    let n = newell_vector(polygon);
     (n.length() > 0.0).then(|| n.normalize())
 }
 
@@ -81,23 +79,15 @@ fn hidden_interval(occ: &Occluder, p1: DVec3, p2: DVec3) -> Option<(f64, f64)> {
 
 /// The visible parts of the line p1 p2 (eye mm) as parameter intervals in [0, 1], in order.
 pub fn visible_parts(p1: DVec3, p2: DVec3, occluders: &[Occluder]) -> Vec<(f64, f64)> {
-    let mut hidden: Vec<(f64, f64)> = occluders
+    let mut hidden: Vec<[f64; 2]> = occluders
         .iter()
         .filter_map(|o| hidden_interval(o, p1, p2))
+        .map(|(lo, hi)| [lo, hi])
         .collect();
-    hidden.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut visible = Vec::new();
-    let mut start = 0.0f64;
-    for (lo, hi) in hidden {
-        if lo > start {
-            visible.push((start, lo));
-        }
-        start = start.max(hi);
-    }
-    if start < 1.0 {
-        visible.push((start, 1.0));
-    }
-    visible
+    unit_interval_complement(&mut hidden)
+        .into_iter()
+        .map(|[lo, hi]| (lo, hi))
+        .collect()
 }
 
 /// The part of a convex polygon (eye mm) on or beyond the hither plane z = `hither_mm`
