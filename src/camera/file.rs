@@ -140,6 +140,80 @@ fn check_camera(c: &Camera) -> Result<(), CameraError> {
             return Err(degenerate(field, "is not invertible"));
         }
     }
+    check_rigid(c)?;
+    check_projection(c)
+}
+
+/// Largest entry of |RᵀR - I| (and |det R - 1|) accepted in `view_from_world`'s rotation R.
+/// A camera file written by blockworld holds R to the last bit of an f64 (about 1e-16); a
+/// rotation typed by hand with seven significant digits is off by about 1e-7. A deviation of
+/// 1e-6 shears or scales a 10,000 px picture by at most 0.01 px, below what any stage resolves,
+/// while a larger one is a camera that no rigid eye can have.
+pub const RIGID_TOLERANCE: f64 = 1e-6;
+
+/// `view_from_world` must be rigid: an orthonormal rotation with determinant +1 (no scale,
+/// shear or mirror), a finite translation and a last row of (0, 0, 0, 1) (thesis Ch. II
+/// eq. 2.2-2.5: the viewing transform turns and moves the world, nothing else).
+fn check_rigid(c: &Camera) -> Result<(), CameraError> {
+    let m = c.view_matrix();
+    if (m.row(3) - crate::geom::DVec4::W).abs().max_element() > RIGID_TOLERANCE {
+        return Err(degenerate(
+            "view_from_world",
+            "has a last row other than (0, 0, 0, 1); write a rigid transform",
+        ));
+    }
+    let r = crate::geom::DMat3::from_mat4(m);
+    let gram = r.transpose() * r - crate::geom::DMat3::IDENTITY;
+    let off = gram
+        .to_cols_array()
+        .iter()
+        .fold((r.determinant() - 1.0).abs(), |a, x| a.max(x.abs()));
+    if off.is_nan() || off > RIGID_TOLERANCE {
+        return Err(degenerate(
+            "view_from_world",
+            format!(
+                "is not a rigid rotation (off by {:.1e}, tolerance {RIGID_TOLERANCE:.0e}): its \
+                 3x3 part scales, shears or mirrors; re-render the camera",
+                off
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// `clip_from_view` must be the projection its `projection` names (thesis Ch. II eq. 2.6):
+/// perspective divides by the depth (last row (0, 0, -1, 0)), orthographic does not (last row
+/// (0, 0, 0, 1)); both scale x and y by a positive factor; `near_far_mm` is ordered and, for a
+/// perspective, in front of the eye.
+fn check_projection(c: &Camera) -> Result<(), CameraError> {
+    use crate::geom::DVec4;
+    let m = c.projection_matrix();
+    let (w_row, name) = match c.projection {
+        Projection::Perspective { .. } => (DVec4::new(0.0, 0.0, -1.0, 0.0), "perspective"),
+        _ => (DVec4::W, "orthographic"),
+    };
+    if (m.row(3) - w_row).abs().max_element() > RIGID_TOLERANCE {
+        return Err(degenerate(
+            "clip_from_view",
+            format!(
+                "does not match its {name} projection (the last row must be {w_row}); re-render the camera"
+            ),
+        ));
+    }
+    if !(m.x_axis.x > 0.0 && m.y_axis.y > 0.0) {
+        return Err(degenerate(
+            "clip_from_view",
+            "does not scale x and y by positive factors; re-render the camera",
+        ));
+    }
+    let [near, far] = c.near_far_mm;
+    let in_front = near > 0.0 || name == "orthographic";
+    if !(near < far && in_front) {
+        return Err(degenerate(
+            "near_far_mm",
+            format!("[{near}, {far}] is not an ordered range in front of the eye"),
+        ));
+    }
     Ok(())
 }
 
@@ -179,5 +253,34 @@ mod tests {
         )
         .is_err());
         assert!(mutate(&|_| {}).is_ok());
+    }
+
+    #[test]
+    fn camera_file_refuses_a_view_that_is_not_rigid_or_a_wrong_projection() {
+        // An entry of 1e20 keeps the matrix invertible but not rigid (it panicked the
+        // recognizer's check); a scale of 1.001 or a mirror is not rigid either.
+        let good: serde_json::Value = serde_json::from_str(&camera_json(&camera())).unwrap();
+        let mutate = |f: &dyn Fn(&mut serde_json::Value)| {
+            let mut v = good.clone();
+            f(&mut v);
+            parse_camera_json(&v.to_string())
+        };
+        let scaled = |k: usize, by: f64| {
+            move |v: &mut serde_json::Value| {
+                let x = v["view_from_world"][k].as_f64().unwrap();
+                v["view_from_world"][k] = (x * by + if x == 0.0 { by } else { 0.0 }).into();
+            }
+        };
+        for (k, by) in [(9, 1e20), (0, 1.001), (5, -1.0)] {
+            let err = mutate(&scaled(k, by)).unwrap_err().to_string();
+            assert!(err.contains("not a rigid rotation"), "{k} {by}: {err}");
+        }
+        assert!(mutate(&scaled(0, 1.0 + 1e-9)).is_ok());
+        let err = mutate(&|v| v["clip_from_view"][11] = (-1.0).into())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("orthographic projection"), "{err}");
+        let err = mutate(&|v| v["near_far_mm"] = serde_json::json!([10.0, 1.0])).unwrap_err();
+        assert!(err.to_string().contains("near_far_mm"), "{err}");
     }
 }

@@ -55,7 +55,8 @@ impl Default for LabelOptions {
 /// A number of combinations that may exceed `u128`: exact when it fits, always as log10.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Combinations {
-    /// The exact product, when it fits in 128 bits.
+    /// The exact product, when it fits in 128 bits (in JSON a string above `u64::MAX`).
+    #[serde(serialize_with = "serialize_optional_count")]
     pub exact: Option<u128>,
     /// log10 of the product (`-inf` for zero).
     pub log10: f64,
@@ -93,13 +94,35 @@ pub struct SearchStats {
 /// How many consistent labellings there are.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LabellingCount {
-    /// The count (saturating at `u128::MAX`); a lower bound when `exact` is false.
+    /// The count (saturating at `u128::MAX`); a lower bound when `exact` is false. In JSON a
+    /// number up to `u64::MAX` and a decimal string above it (JSON numbers stop there).
+    #[serde(serialize_with = "serialize_count")]
     pub value: u128,
     /// Whether `value` is the exact count.
     pub exact: bool,
     /// Why the count is a lower bound, when it is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+}
+
+/// A count as a JSON number when it fits in `u64` (serde_json's largest integer), else as its
+/// decimal string: five separate cubes already have more labellings than `u64` holds.
+fn serialize_count<S: serde::Serializer>(n: &u128, s: S) -> Result<S::Ok, S::Error> {
+    match u64::try_from(*n) {
+        Ok(small) => s.serialize_u64(small),
+        Err(_) => s.serialize_str(&n.to_string()),
+    }
+}
+
+/// [`serialize_count`] of an optional count (`null` when absent).
+fn serialize_optional_count<S: serde::Serializer>(
+    n: &Option<u128>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match n {
+        Some(n) => serialize_count(n, s),
+        None => s.serialize_none(),
+    }
 }
 
 /// Progress of a long search, passed to the caller's callback every 2^14 nodes.

@@ -253,7 +253,7 @@ pub struct Contacts {
 }
 
 /// Faces of different blocks closer than this along their (opposite) normals touch, mm: the
-/// exact drawing's seam tolerance (`truth::TruthTolerances::seam_mm`).
+/// exact drawing's seam tolerance (`linedraw::TruthTolerances::seam_mm`).
 pub(super) const CONTACT_MM: f64 = 2.0 * crate::geom::CONTACT_TOL_MM;
 
 /// Finds the touching face pairs of `scene` (opposite normals, planes within [`CONTACT_MM`],
