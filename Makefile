@@ -1,4 +1,4 @@
-# blockworld: the README's two commands are `make demo` and `make test`. Both install what a
+# blockworld: the two commands of README.md are `make demo` and `make test`. Both install what a
 # fresh Debian machine lacks (lavapipe, Mesa's CPU Vulkan driver) before building.
 
 CARGO ?= cargo
@@ -17,9 +17,14 @@ K8S_VALIDATE_DIR := target/kubernetes-validate
 BLENDER_BPY_VERSION := 4.2.23
 BLENDER_VENV := target/blender-venv
 
-.PHONY: setup demo test lint ci bless slurm-up slurm-down blender
+# `make install` puts the command here (cargo install --root); PREFIX=/opt/x for another place.
+PREFIX ?= $(HOME)/.cargo
+# The peers of `blockworld bench peers` (bench/peers/requirements.txt) live in this venv.
+PEERS_VENV := target/peers-venv
 
-# Installs the Vulkan loader and lavapipe only when absent (needs root, as on this machine kind).
+.PHONY: setup demo test lint ci bless slurm-up slurm-down install peers docs benchmarks blender
+
+# Installs the Vulkan loader and lavapipe only when absent (needs root, or sudo).
 setup:
 	@mkdir -p "$(XDG_RUNTIME_DIR)" && chmod 700 "$(XDG_RUNTIME_DIR)"
 	@if ! dpkg -s $(VULKAN_PKGS) >/dev/null 2>&1; then \
@@ -72,9 +77,42 @@ test: setup
 		trap 'scripts/slurm_local.sh down' EXIT && scripts/slurm_local.sh up; \
 	fi && \
 	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_SLURM=1 BLOCKWORLD_REQUIRE_K8S_VALIDATE=1 \
-		$(CARGO) test --all-targets
+		$(CARGO) test --all-targets && \
+	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --doc && \
+	$(CARGO) run --quiet --example recognize_scene -- scenes/two_layer.json
 
-# The one-node Slurm of scripts/slurm_local.sh, by hand (README "Settling and datasets").
+# Installs the `blockworld` command (release build) into $(PREFIX)/bin (docs/install.md).
+install:
+	@if ! dpkg -s $(VULKAN_PKGS) >/dev/null 2>&1; then \
+		echo "installing $(VULKAN_PKGS) (lavapipe)"; \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(VULKAN_PKGS); \
+	fi
+	$(CARGO) install --locked --path . --root "$(PREFIX)"
+
+# The peers' venv for `blockworld bench peers` (docs/benchmarks.md "Peers").
+peers:
+	@if ! python3 -m venv $(PEERS_VENV) >/dev/null 2>&1; then \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq python3-venv && \
+		rm -rf $(PEERS_VENV) && python3 -m venv $(PEERS_VENV); \
+	fi
+	$(PEERS_VENV)/bin/pip install --quiet --disable-pip-version-check -r bench/peers/requirements.txt
+
+# Rewrites docs/cli.md from the clap definitions (tests/cli_docs.rs checks it is up to date).
+docs:
+	$(CARGO) run --quiet -- docs cli > docs/cli.md.tmp && mv docs/cli.md.tmp docs/cli.md
+
+# Runs the benches (release build) and rewrites docs/benchmarks.md with their tables and one
+# machine line; PEERS=1 adds `bench peers` (needs `make peers`).
+benchmarks: setup
+	$(CARGO) build --release --quiet
+	bench/report.sh target/release/blockworld > docs/benchmarks.md.tmp
+	mv docs/benchmarks.md.tmp docs/benchmarks.md
+
+# The one-node Slurm of scripts/slurm_local.sh, by hand (docs/datasets.md "Settling").
 slurm-up: setup
 	scripts/slurm_local.sh up
 
@@ -86,7 +124,7 @@ lint:
 	$(CARGO) clippy --all-targets -- -D warnings
 	@# One glam, parry3d, rapier3d and wgpu each: scene types are physics types, no conversions.
 	@if $(CARGO) tree -d -e normal --depth 0 --prefix none | grep -E '^(glam|parry3d|rapier3d|wgpu) v'; then \
-		echo "a second version of the crate above is compiled: keep glam/parry3d/rapier3d in lockstep (README Dependencies)"; \
+		echo "a second version of the crate above is compiled: keep glam/parry3d/rapier3d in lockstep (docs/architecture.md \"Dependencies\")"; \
 		exit 1; \
 	fi
 

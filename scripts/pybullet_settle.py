@@ -1,4 +1,4 @@
-"""PyBullet peer of `blockworld bench settle` (README "Benchmarks"): settles the cuboids given on
+"""PyBullet peer of `blockworld bench settle` (docs/benchmarks.md "Benchmarks"): settles the cuboids given on
 stdin the way a Kubric-style PyBullet pipeline does, and prints one JSON line.
 
 Input (stdin, JSON): {"blocks": [{"center_mm": [x, y, z], "half_mm": [hx, hy, hz]}, ...]} in

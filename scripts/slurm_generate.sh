@@ -10,7 +10,7 @@
 # redoing only the scenes whose done.json is missing or whose files fail their sha256, and says
 # how many it kept. SHARDS is an argument, not SLURM_ARRAY_TASK_COUNT, because a resubmitted
 # single task sees a count of 1. DATASET must be on a file system every node sees. Set BLOCKWORLD
-# to the binary's path if it is not on PATH. README "Settling and datasets".
+# to the binary's path if it is not on PATH. docs/datasets.md "Settling".
 #SBATCH --job-name=blockworld-generate
 #SBATCH --cpus-per-task=2
 #SBATCH --mem=1G

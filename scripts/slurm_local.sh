@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A real one-node Slurm cluster on this machine, for the array-job test in tests/dataset.rs
-# (README "Settling and datasets"). `make setup` installs Debian's `slurm-wlm munge`;
+# (docs/datasets.md "Settling"). `make setup` installs Debian's `slurm-wlm munge`;
 # `make test` runs `up` before the tests and `down` after them (also when a test fails).
 #
 #   scripts/slurm_local.sh up      # munge key, slurm.conf, munged, slurmctld, slurmd; waits for `idle`

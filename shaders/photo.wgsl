@@ -1,4 +1,4 @@
-// blockworld photographic look (README "Photographic look"): linear radiance of a bevelled,
+// blockworld photographic look (docs/rendering.md "Photographic look"): linear radiance of a bevelled,
 // cracked render mesh (src/render/photo/mesh/mod.rs) under a key light with a shadow map plus
 // ambient, no drawn ink. The sensor (blur, noise, gamma, quantization) runs on the CPU.
 

@@ -1,4 +1,4 @@
-// blockworld scene shader (issue #2): flat Lambert gray levels computed on the CPU
+// blockworld scene shader: flat Lambert gray levels computed on the CPU
 // (src/render/gpu/mesh.rs), a dark seam about one pixel wide centred on every block face edge,
 // and the ground truth: depth along the optical axis (1/16 mm steps) and block ids.
 //

@@ -5,7 +5,7 @@
 //! `camera_<view>.json`. Pure math, no wgpu: the renderer, its ground truth, the vision stage,
 //! the recognizer and the viewer all map world points to picture pixels through this module.
 //!
-//! Conventions (README "Cameras"): azimuth is the compass bearing of the camera seen from the
+//! Conventions (docs/formats.md "Camera files"): azimuth is the compass bearing of the camera seen from the
 //! scene, clockwise from north (-z) towards east (+x): NE 45, SE 135, SW 225, NW 315 degrees.
 //! Elevation is the camera's angle above the floor, default the exact isometric angle.
 //! Pixel aspect is the thesis's "vertical to horizontal pixel size ratio" (1.173913 for its
@@ -235,7 +235,7 @@ impl Camera {
         }
     }
 
-    /// The same camera describing its picture averaged `factor` x `factor` down (README
+    /// The same camera describing its picture averaged `factor` x `factor` down (docs/rendering.md
     /// "Photographic look"; the thesis's 2 x 2 averaging, Ch. VI): `size_px` divided by
     /// `factor`, the projection unchanged, so a world point lands on the written picture's px,
     /// scaled by `1 / factor` from the full picture. Sides not divisible by `factor` drop their
@@ -349,7 +349,7 @@ pub const FRONT_FACING_COS: f64 = 1e-9;
 /// The view matrix of Chapter II's From/At/Up construction (eq. 2.5a-c): world to camera,
 /// right-handed, the camera looking down its -z, picture up along the projection of `up_dir`.
 /// The thesis writes `U' = A - U` and a left-handed viewing system, which turns the picture
-/// upside down on a y-up picture; this follows the geometry instead (README "Thesis readings").
+/// upside down on a y-up picture; this follows the geometry instead (docs/thesis-readings.md "Thesis readings").
 pub fn look_at(from_mm: DVec3, at_mm: DVec3, up_dir: DVec3) -> DMat4 {
     glam::dcamera::rh::view::look_at_mat4(from_mm, at_mm, up_dir)
 }

@@ -1,7 +1,7 @@
 //! Geometry conventions shared by every stage.
 //!
 //! * World units are **millimetres**; axes are right-handed with **+y up**, the floor is the
-//!   plane y = 0, **+x is east** and **-z is north** (README "Conventions").
+//!   plane y = 0, **+x is east** and **-z is north** (docs/formats.md "Conventions").
 //! * Picture coordinates are **pixels, x right, y up**, with (0, 0) the bottom-left corner of the
 //!   picture and pixel centres at +0.5 (the GPU viewport transform with y flipped). A raster row
 //!   `r` (0 at the top) has its centres at `y_px = height_px - r - 0.5`.
@@ -15,7 +15,7 @@ pub use glam::{DMat3, DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2,
 /// Contact tolerance in millimetres: two faces closer than this (and parallel) count as
 /// touching, and a penetration shallower than this is not an overlap. Settled rapier poses sit
 /// 0.03 mm into their supports with the stiff contact parameters used in `physics`, so the
-/// same tolerance serves validation, ground truth and settling (README "Conventions").
+/// same tolerance serves validation, ground truth and settling (docs/formats.md "Conventions").
 pub const CONTACT_TOL_MM: f64 = 0.05;
 
 /// Newell's vector of a closed polygon: the sum of `p_i x p_(i+1)` around it, normal to a
@@ -31,12 +31,12 @@ pub fn newell_vector(polygon: &[DVec3]) -> DVec3 {
 }
 
 /// Half the side of the world's square floor, mm: every block vertex must have |x| and |z| at
-/// most this, and y in `0..=WORLD_HEIGHT_MM` (README "Conventions", world extent). It is the
+/// most this, and y in `0..=WORLD_HEIGHT_MM` (docs/formats.md "Conventions", world extent). It is the
 /// physics floor (a 20 m square, `physics`), and it keeps every coordinate far inside f32's
 /// range, so cameras, pictures and glTF nodes stay finite (the renderer works in f32).
 pub const WORLD_HALF_EXTENT_MM: f64 = 10_000.0;
 
-/// The world's height, mm: no block vertex lies above this (README "Conventions").
+/// The world's height, mm: no block vertex lies above this (docs/formats.md "Conventions").
 pub const WORLD_HEIGHT_MM: f64 = 10_000.0;
 
 /// `x.floor()` as an integer (saturating at the ends of `i64`, 0 for NaN, like `as i64`),
@@ -57,7 +57,7 @@ pub fn gray_at(gray: &image::GrayImage, p: DVec2) -> Option<f64> {
 }
 
 /// Gray level of the pixel in column `x` and picture row `y` (counted up from the bottom, as
-/// picture y runs; README "Conventions"), `None` outside the picture: [`gray_at`] for a whole
+/// picture y runs; docs/formats.md "Conventions"), `None` outside the picture: [`gray_at`] for a whole
 /// pixel, for walks that step from pixel to pixel without a point.
 #[inline]
 pub fn gray_at_px(gray: &image::GrayImage, x: i64, y: i64) -> Option<f64> {
@@ -116,7 +116,7 @@ pub fn outside_world(p_mm: DVec3) -> Option<String> {
 
 /// The exact isometric elevation, atan(1/sqrt(2)) = 35.26438968 degrees. "35.264" is a
 /// rounding of this angle; using the rounded value makes coincident points drift 0.001 px
-/// apart (README "Conventions").
+/// apart (docs/formats.md "Conventions").
 pub const ISOMETRIC_ELEVATION_DEG: f64 = 35.264_389_682_754_654;
 
 /// The heading of a rotation: the angle of the turned local +x axis about +y, degrees

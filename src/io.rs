@@ -21,7 +21,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     write_atomic_with(path, bytes, FileSync::EveryFile)
 }
 
-/// When a file's data is forced to disk (README "Settling and datasets", durability).
+/// When a file's data is forced to disk (docs/datasets.md "Settling", durability).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FileSync {
     /// `fdatasync` before the rename: the file survives a power loss once written.
@@ -29,9 +29,8 @@ pub enum FileSync {
     EveryFile,
     /// Rename only: the file survives a killed process (the page cache keeps it), not a power
     /// loss; for outputs whose resume re-hashes every file against its manifest, which finds
-    /// and redoes what a power loss damaged (`generate`'s scenes and their done markers, README
-    /// "Settling and datasets"; `export-dataset`'s pictures and part files, README "Wireframe
-    /// datasets"), where a sync per file makes the disk the bottleneck.
+    /// and redoes what a power loss damaged (`generate`'s scenes and their done markers, docs/datasets.md
+    /// "Settling"; `export-dataset`'s pictures and part files, docs/wireframe.md "Wireframe datasets"), where a sync per file makes the disk the bottleneck.
     Verified,
 }
 

@@ -2,7 +2,7 @@
 //! scene share: `view_<v>.png`, `depth_<v>.png`, `ids_<v>.png`, `lines_<v>.json`,
 //! `camera_<v>.json`, each written atomically.
 //!
-//! Formats (README "Output files"):
+//! Formats (docs/rendering.md "Views and ground truth"):
 //! * `view_<v>.png`: 8-bit grayscale picture.
 //! * `depth_<v>.png`: 16-bit grayscale, depth along the optical axis in
 //!   1 / [`DEPTH_UNITS_PER_MM`] mm steps, 0 = nothing seen.
@@ -92,7 +92,7 @@ pub fn encode_png_rgb8(img: &image::RgbImage) -> std::io::Result<Vec<u8>> {
 
 /// PNG bytes of a depth map (`depth_<v>.png`, 16-bit): the Paeth filter on every row. Depth
 /// is planar per face, so Paeth predicts it as well as the adaptive choice (on the 400 depth
-/// maps of `generate --count 100`: 0.2% larger files) at about half the encoding time (README
+/// maps of `generate --count 100`: 0.2% larger files) at about half the encoding time (docs/benchmarks.md
 /// "Benchmarks").
 pub fn encode_png_depth(img: &crate::render::Gray16Image) -> std::io::Result<Vec<u8>> {
     encode_png_gray16_with(img, png::Filter::Paeth)
@@ -101,7 +101,7 @@ pub fn encode_png_depth(img: &crate::render::Gray16Image) -> std::io::Result<Vec
 /// PNG bytes of an id map (`ids_<v>.png`, 16-bit): the Up filter on every row. Ids are flat
 /// regions whose rows mostly repeat the row above, which Up turns into zeros (on the 400 id maps
 /// of `generate --count 100`: 2.6% larger files than the adaptive choice) at under half the
-/// encoding time (README "Benchmarks").
+/// encoding time (docs/benchmarks.md "Benchmarks").
 pub fn encode_png_ids(img: &crate::render::Gray16Image) -> std::io::Result<Vec<u8>> {
     encode_png_gray16_with(img, png::Filter::Up)
 }

@@ -1,4 +1,4 @@
-//! The accuracy gate CI enforces on the method itself (README "Recognizer"): the committed
+//! The accuracy gate CI enforces on the method itself (docs/recognizer.md "Recognizer"): the committed
 //! suites rendered in four noise-free orthographic corner views, the vision front end on the
 //! pictures, the modified Kanade recognizer and its CSG, scored against the truth
 //! (`blockworld::pipeline::run_suite`). Three suites: `scenes/bench/` (the three basic blocks and
@@ -43,7 +43,7 @@ static CHAPTER_VII: Suite = Suite::new(
     "golden/accuracy_chapter_vii.json",
 );
 
-/// The basic suite in the photographic look (README "Photographic look"), 512 x 480.
+/// The basic suite in the photographic look (docs/rendering.md "Photographic look"), 512 x 480.
 static PHOTO: Suite = Suite::new("scenes/bench", Look::Photo, "golden/accuracy_photo.json");
 
 /// The first [`VARIED_SCENES`] scenes of the basic suite, each in its own draw of the varied

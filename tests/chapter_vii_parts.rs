@@ -150,7 +150,7 @@ fn ray_enters_block(o: DVec3, d: DVec3, b: &Block) -> Option<f64> {
 
 /// Whether scene point `p` is seen from `camera`: nothing (the round part `round` as its exact
 /// cylinder, every other block as its polyhedron) lies on the way to the eye beyond 0.05 mm
-/// (the contact tolerance of README "The exact line drawing").
+/// (the contact tolerance of docs/formats.md "The exact line drawing").
 fn seen(scene: &Scene, round: usize, camera: &blockworld::camera::Camera, p: DVec3) -> bool {
     let d = if camera.is_orthographic() {
         camera.towards_eye()

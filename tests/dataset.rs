@@ -1,4 +1,4 @@
-//! `blockworld generate` and `blockworld merge` end to end (README "Settling and datasets"): every family
+//! `blockworld generate` and `blockworld merge` end to end (docs/datasets.md "Settling"): every family
 //! yields scenes; the same seed gives the same bytes whatever `--jobs`; shards merge into the
 //! unsharded dataset; a run killed midway resumes to a byte-identical dataset. Scale-out on the
 //! real engines: a Slurm array job (`scripts/slurm_generate.sh`, one task killed with SIGKILL and
@@ -527,17 +527,17 @@ fn required(var: &str) -> bool {
 }
 
 /// A Slurm cluster answering `sinfo`, or a loud skip (`false`); no cluster is a failure in CI or
-/// with `BLOCKWORLD_REQUIRE_SLURM` set. `scripts/slurm_local.sh up` starts one on this machine.
+/// with `BLOCKWORLD_REQUIRE_SLURM` set. `scripts/slurm_local.sh up` starts one on the local machine.
 fn slurm_available() -> bool {
     let up = Command::new("sinfo")
         .arg("-h")
         .output()
         .is_ok_and(|o| o.status.success() && !o.stdout.is_empty());
     if !up && required("BLOCKWORLD_REQUIRE_SLURM") {
-        panic!("no Slurm cluster answers sinfo, and CI or BLOCKWORLD_REQUIRE_SLURM requires one: run scripts/slurm_local.sh up (README \"Settling and datasets\")");
+        panic!("no Slurm cluster answers sinfo, and CI or BLOCKWORLD_REQUIRE_SLURM requires one: run scripts/slurm_local.sh up (docs/datasets.md \"Settling\")");
     }
     if !up {
-        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); scripts/slurm_local.sh up starts one, README \"Settling and datasets\"");
+        eprintln!("SKIPPED: no Slurm cluster (sinfo failed); scripts/slurm_local.sh up starts one, docs/datasets.md \"Settling\"");
     }
     up
 }

@@ -174,7 +174,7 @@ fn thesis_sample_glb_reads_back_and_matches_the_scene() {
 }
 
 /// The Chapter VII parts export like any block: the wedge as its exact polyhedron, the round
-/// part as its inscribed 64-sided prism (README "Block catalog"), each mesh checked against the
+/// part as its inscribed 64-sided prism (docs/formats.md "Block catalog"), each mesh checked against the
 /// catalog's bounds, triangles and volume, each node against the scene's world vertices.
 #[test]
 fn wedge_and_round_part_glb_read_back_and_match_the_scene() {

@@ -1,4 +1,4 @@
-//! `blockworld export-dataset` end to end (README "Wireframe datasets"): each format is read
+//! `blockworld export-dataset` end to end (docs/wireframe.md "Wireframe datasets"): each format is read
 //! back by a small reader written from the format's published description (plain
 //! `serde_json::Value`, not blockworld's writer), and checked against the dataset's own
 //! `lines_<view>.json` (read raw as well), its pictures and its manifest.
@@ -554,7 +554,7 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes_on_any_job
 /// Cuts every view of a generated dataset to the window `x0..x0 + w`, raster rows `0..h` of its
 /// picture: the same orthographic camera with a smaller picture, whose blocks now run off it.
 /// The picture is cropped, the drawing's points moved by `(-x0, -(H - h))` (picture px, y up,
-/// README "Conventions"), and the manifest's hashes of both updated.
+/// docs/formats.md "Conventions"), and the manifest's hashes of both updated.
 fn cut_views(dataset: &Path, x0: u32, w: u32, h: u32) {
     let manifest_path = dataset.join("manifest.jsonl");
     let mut manifest = String::new();
@@ -719,8 +719,7 @@ fn overlay(l: &Labelled) -> image::RgbImage {
 }
 
 /// `docs/wireframe_hawp_overlay.png`: the richest picture of a 12-scene HAWP export, drawn by
-/// the reader above; compared byte for byte (renderer-bound like the goldens, README "Golden
-/// images"); re-bless with `BLESS=1 cargo test --test export_dataset`.
+/// the reader above; compared byte for byte (renderer-bound like the goldens, docs/rendering.md "Golden images"); re-bless with `BLESS=1 cargo test --test export_dataset`.
 #[test]
 fn the_readme_overlay_is_what_the_reader_draws() {
     if !renderer_available() {

@@ -1,4 +1,4 @@
-//! The committed fuzz corpora replayed on stable Rust (README "Exit codes and progress output",
+//! The committed fuzz corpora replayed on stable Rust (docs/cli.md "Exit codes and progress output",
 //! fuzzing): every file under `tests/fuzz/seeds/<target>/` goes through the property of its
 //! cargo-fuzz target, the same `*_check.rs` the target runs under libFuzzer. A crash libFuzzer
 //! finds is fixed in the library and its reproducer is added to the target's folder here, so

@@ -94,7 +94,7 @@ fn every_glb_the_tests_write_has_no_errors_and_no_warnings() {
             .unwrap();
         files.push(write(tmp.path(), &format!("{stem}_declined.glb"), &glb));
     }
-    // The Chapter VII parts (README "Block catalog"): a wedge on a Baustein 30, a round part.
+    // The Chapter VII parts (docs/formats.md "Block catalog"): a wedge on a Baustein 30, a round part.
     let parts = blockworld::scene::Scene::new(
         "chapter_vii_parts",
         vec![

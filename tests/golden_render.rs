@@ -1,4 +1,4 @@
-//! Whole-renderer tests (README "Rendering"): golden images of every example scene, gray levels of the
+//! Whole-renderer tests (docs/rendering.md "Rendering"): golden images of every example scene, gray levels of the
 //! faces, the seam between touching blocks, depth and ids against an exact ray cast, noise,
 //! MSAA, perspective, odd picture widths, sharing one renderer across threads.
 //!
@@ -17,7 +17,7 @@ use common::{compare_golden, renderer, Tolerance};
 use rayon::prelude::*;
 
 /// Golden tolerance: exact. lavapipe renders bit-identically from run to run, across debug and
-/// release, and llvmpipe-GL matches it (README "Dependencies"); what bounds it is the
+/// release, and llvmpipe-GL matches it (docs/architecture.md "Dependencies"); what bounds it is the
 /// Mesa/LLVM version of the machine that blessed the goldens (golden/README.md). Loosen only
 /// with a written reason, e.g. a Mesa update that moves rasterization by a sub-pixel step.
 const GOLDEN_TOLERANCE: Tolerance = Tolerance {
@@ -661,8 +661,8 @@ fn gl_backend_renders_the_same_pixels_as_vulkan() {
 /// The cost of `Renderer::render_pixels` for `bench render`'s 10-block stack (b15 in layers of
 /// a 3 x 3 square), one view per submission, views cycling through the four corners:
 /// `VIEWS=40` and `VIEWS=10` under `valgrind --tool=callgrind`, the difference over 30 is the
-/// instructions per view with the device set-up and the shader compilation left out (README
-/// "Peer ratios"). Checks only that the last view shows the top block and at least nine in all.
+/// instructions per view with the device set-up and the shader compilation left out (docs/benchmarks.md
+/// "Peers"). Checks only that the last view shows the top block and at least nine in all.
 #[test]
 #[ignore]
 fn print_cost_of_render_pixels_of_the_10_block_stack() {

@@ -1,4 +1,4 @@
-//! What a hostile but fair user does to the command line (README "Exit codes and progress output"): full or closed
+//! What a hostile but fair user does to the command line (docs/cli.md "Exit codes and progress output"): full or closed
 //! stdout, huge coordinates, loose edges of the file formats, odd encodings. Each test pins one
 //! failure that once passed with a panic, `null` in the output or a misleading message.
 

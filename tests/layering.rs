@@ -53,7 +53,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("cli", &["*"]),
 ];
 
-/// Stages that must not depend on the renderer (README "Source layout"): what feeds it, and
+/// Stages that must not depend on the renderer (docs/architecture.md "Stages"): what feeds it, and
 /// `vision`, which reads any picture with its camera, rendered or photographed.
 const BELOW_RENDER: &[&str] = &[
     "geom", "io", "camera", "drawing", "scene", "physics", "vision",

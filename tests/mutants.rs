@@ -1,4 +1,4 @@
-//! Mutation tests over scene files (README "Exit codes and progress output"): seeded mutants of the example and
+//! Mutation tests over scene files (docs/cli.md "Exit codes and progress output"): seeded mutants of the example and
 //! suite scenes (numbers swapped for extreme values, tokens inserted, spans deleted, duplicated
 //! or truncated, bytes flipped) go through the scene readers in-process and through
 //! `blockworld export` as a user would run it. Every mutant must end with exit 0 or 2, never a
@@ -299,7 +299,7 @@ fn write_fuzz_corpus() {
     }
 }
 
-/// Line drawings are read checked (README "Vision front end"): 20,000 seeded mutants of the
+/// Line drawings are read checked (docs/vision.md "Vision front end"): 20,000 seeded mutants of the
 /// single-cube drawings either fail to read or read back to the same drawing without `null`.
 #[test]
 fn drawing_reader_survives_twenty_thousand_mutants() {

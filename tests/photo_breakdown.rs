@@ -1,4 +1,4 @@
-//! The photographic look's declined scenes, broken down (README "Photographic look"): for each
+//! The photographic look's declined scenes, broken down (docs/rendering.md "Photographic look"): for each
 //! supported scene of `scenes/bench` the recognizer does not answer exactly from its photo
 //! pictures, whether the truth itself passes step 6's check against the vision drawings (then
 //! the search never proposed it) or which view and feature refuse it, and what the picture

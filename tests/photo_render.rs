@@ -1,4 +1,4 @@
-//! The photographic look (README "Photographic look"): goldens of two example scenes, ground
+//! The photographic look (docs/rendering.md "Photographic look"): goldens of two example scenes, ground
 //! truth that does not depend on the look, shading order of the faces, the crack between
 //! touching blocks, seeded noise and light, the thesis's 2 x 2 averaging with a camera that
 //! describes the written picture, and the parts `bench render --photo-parts` times.

@@ -1,4 +1,4 @@
-//! The recognizer on hostile input (README "Recognizer"): seeded random byte strings through the
+//! The recognizer on hostile input (docs/recognizer.md "Recognizer"): seeded random byte strings through the
 //! property of the `recognize` fuzz target (`tests/fuzz/fuzz_targets/recognize_check.rs`), so
 //! CI exercises it on stable Rust; plus the bare cases (no views, a line to a missing point).
 

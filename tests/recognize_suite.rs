@@ -341,7 +341,7 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
 /// a row of three on top) from its four exact drawings: run with `cargo test --release --test
 /// recognize_suite print_cost_of_the_12_block_stack -- --ignored --nocapture`, or under
 /// `valgrind --tool=callgrind` for instruction counts that do not depend on the machine's load
-/// (README "Recognizer"). Checks only that the answer is the declined one the views force.
+/// (docs/recognizer.md "Recognizer"). Checks only that the answer is the declined one the views force.
 #[test]
 #[ignore]
 fn print_cost_of_the_12_block_stack() {

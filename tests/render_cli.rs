@@ -1,4 +1,4 @@
-//! The `blockworld render` and `blockworld demo` commands end to end (README "Rendering"): the files they
+//! The `blockworld render` and `blockworld demo` commands end to end (docs/rendering.md "Rendering"): the files they
 //! write, what they print, their determinism, and their errors.
 
 mod common;
@@ -209,7 +209,7 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
             .lines()
             .find(|l| l.starts_with(&format!("vision {view}:")))
             .unwrap_or_else(|| panic!("no vision line for {view}: {printed}"));
-        // Noise-free orthographic views: the README "Vision front end" target is at least 0.98.
+        // Noise-free orthographic views: the docs/vision.md "Vision front end" target is at least 0.98.
         for field in ["precision", "recall", "six-bit code accuracy"] {
             let value: f64 = vision
                 .split(&format!("{field} "))

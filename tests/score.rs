@@ -1,4 +1,4 @@
-//! `blockworld score` end to end (README "Scoring and the accuracy suite"): files in, table or JSON out, clear errors that name
+//! `blockworld score` end to end (docs/accuracy.md "Scoring and the accuracy suite"): files in, table or JSON out, clear errors that name
 //! the file. The exactness of the volumes is tested beside the code (`src/score/tests.rs`).
 
 mod common;

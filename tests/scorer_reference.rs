@@ -1,4 +1,4 @@
-//! The scorer's own regression test (README "Scoring and the accuracy suite"): the committed
+//! The scorer's own regression test (docs/accuracy.md "Scoring and the accuracy suite"): the committed
 //! suite (`scenes/bench/`) scored with the constructed reference reconstructions
 //! (`golden/recon_reference/`, made to known verdicts, not by a recognizer) must give the
 //! scores in `golden/scorer_reference.json`, and the gate logic must fail on a worse set. The
@@ -89,7 +89,7 @@ fn suite_covers_the_families_and_the_failure_cases() {
         .collect();
     families.sort();
     families.dedup();
-    // The generator's families (README "Settling and datasets"), the Chapter VII failure cases included.
+    // The generator's families (docs/datasets.md "Settling"), the Chapter VII failure cases included.
     for f in [
         "single",
         "row",

@@ -1,4 +1,4 @@
-//! `blockworld settle` end to end (README "Settling and datasets"): a stable scene is written snapped to
+//! `blockworld settle` end to end (docs/datasets.md "Settling"): a stable scene is written snapped to
 //! its intended poses and settling it again changes no byte; an unstable one is reported block
 //! by block, exits non-zero and writes nothing unless `--allow-drift`.
 

@@ -1,5 +1,5 @@
-//! Whole-scene tests of the exact visible line drawing (README "Rendering", `linedraw`): the small
-//! cases of README "The exact line drawing" (NE view, orthographic, exact isometric elevation),
+//! Whole-scene tests of the exact visible line drawing (docs/rendering.md "Rendering", `linedraw`): the small
+//! cases of docs/formats.md "The exact line drawing" (NE view, orthographic, exact isometric elevation),
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
 
@@ -98,7 +98,7 @@ fn b15_on_b30() -> Scene {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Small cases of README "The exact line drawing"
+// Small cases of docs/formats.md "The exact line drawing"
 // ---------------------------------------------------------------------------------------------
 
 #[test]
@@ -326,7 +326,7 @@ fn hand_made_wedge_is_drawn_like_a_convex_polyhedron() {
     }
 }
 
-/// The catalog's trapezoidal block `w30` (README "Block catalog") in the `wedge` family's
+/// The catalog's trapezoidal block `w30` (docs/formats.md "Block catalog") in the `wedge` family's
 /// arrangements, on a b30 and under a cube, turned a half turn too: its sloped edges are
 /// ordinary straight lines, and the ray-cast validator agrees in every view.
 #[test]

@@ -1,4 +1,4 @@
-//! Whole-stage tests of the vision front end (README "Vision front end") on pictures drawn here: boxes are ray
+//! Whole-stage tests of the vision front end (docs/vision.md "Vision front end") on pictures drawn here: boxes are ray
 //! cast through the real `Camera`, each visible face filled with a flat gray level by its
 //! orientation, and the pixels within half a pixel of the visible face's projected edges
 //! darkened (the renderer's ~1 px seams). The true vertices are the projected box corners, known
@@ -224,7 +224,7 @@ fn one_cube_in_every_view_matches_the_exact_drawing_within_one_pixel() {
 
 #[test]
 fn two_cubes_side_by_side_and_stacked_give_ten_points_fourteen_lines_two_ts() {
-    // README "The exact line drawing": 10 points, 14 lines, 2 T junctions in every view.
+    // docs/formats.md "The exact line drawing": 10 points, 14 lines, 2 T junctions in every view.
     let side = [cube(-7.5, 0.0, 0.0, 15.0), cube(7.5, 0.0, 0.0, 15.0)];
     let stacked = [cube(0.0, 0.0, 0.0, 15.0), cube(0.0, 15.0, 0.0, 15.0)];
     for boxes in [&side[..], &stacked[..]] {
@@ -434,7 +434,7 @@ fn committed_fixtures_are_found_exactly() {
     }
 }
 
-/// The CLI on the committed fixtures: `vertices` writes the JSON of README "Vision front end", `edges` a 0/255
+/// The CLI on the committed fixtures: `vertices` writes the JSON of docs/vision.md "Vision front end", `edges` a 0/255
 /// PNG; a picture of the wrong size fails naming the file and both sizes.
 #[test]
 fn cli_vertices_and_edges_on_fixtures() {
@@ -571,7 +571,7 @@ fn a_small_stack_gives_vertices_on_corners() {
     }
 }
 
-/// The README "Vision front end" accuracy targets on the real renderer (lavapipe) and the exact ground truth, for
+/// The docs/vision.md "Vision front end" accuracy targets on the real renderer (lavapipe) and the exact ground truth, for
 /// every scene in `scenes/`: noise-free vertex precision, recall and code accuracy at least 0.98;
 /// with sensor noise sigma 8 at least 0.95. Skips loudly without a renderer unless
 /// `BLOCKWORLD_REQUIRE_GPU` is set.

@@ -1,4 +1,4 @@
-"""Blender 4.2 Workbench peer of `blockworld bench render` (README "Benchmarks").
+"""Blender 4.2 Workbench peer of `blockworld bench render` (docs/benchmarks.md "Benchmarks").
 
 The same work as blockworld's 10-block row: the stack of `blockworld bench render` (N Baustein 15
 cubes of 15 mm in layers of a 3 x 3 square, filled layer by layer from the floor; blockworld's

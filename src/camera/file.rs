@@ -1,5 +1,5 @@
 //! `camera_<view>.json`: the camera's fields in their declared order, then the depth scale and
-//! the picture convention in words (README "Rendering"). Written by `render` and `generate`,
+//! the picture convention in words (docs/rendering.md "Rendering"). Written by `render` and `generate`,
 //! read back by every stage that maps pixels to the world; a file that is not exactly this is
 //! refused with a reason, never half-read.
 

@@ -38,7 +38,7 @@ pub fn read_drawing(path: &Path) -> anyhow::Result<LineDrawing> {
 }
 
 /// Reads and validates a scene file, showing the validation's progress (block pairs tested;
-/// README "Exit codes and progress output"). The error is the library's, naming the file.
+/// docs/cli.md "Exit codes and progress output"). The error is the library's, naming the file.
 pub fn read_scene_shown(path: &Path) -> Result<Scene, SceneError> {
     crate::cli::progress::with_progress("validate", "block pairs", 0, |p| {
         read_scene_with_progress(path, p)

@@ -1,7 +1,7 @@
 //! Running headless (batch jobs, cron, containers): no session, hence no `XDG_RUNTIME_DIR`.
 //! Mesa's device-select Vulkan layer then still tries to reach a Wayland compositor to rank the
 //! GPUs, and libwayland prints `error: XDG_RUNTIME_DIR is invalid or not set in the environment.`
-//! twice on a render that succeeds (README "Rendering"). Without a session there is no display
+//! twice on a render that succeeds (docs/rendering.md "Rendering"). Without a session there is no display
 //! whose GPU could be preferred, so the layer is switched off with Mesa's own `NODEVICE_SELECT`.
 
 /// Sets `NODEVICE_SELECT=1` when `XDG_RUNTIME_DIR` is unset or not a directory and the user has

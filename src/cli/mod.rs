@@ -4,6 +4,7 @@
 #[macro_use]
 pub mod stdout;
 mod commands;
+mod docs;
 pub mod files;
 mod headless;
 pub mod progress;
@@ -11,10 +12,19 @@ pub mod view_args;
 
 use clap::{Parser, Subcommand};
 
+/// `blockworld --version`: the crate version and the git commit it was built from ("unknown"
+/// outside a git checkout; see build.rs).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("BLOCKWORLD_COMMIT"),
+    ")"
+);
+
 /// blockworld: render, simulate and recognize Fischer-Technik block scenes (a modified Kanade
 /// model for three-dimensional object recognition).
 #[derive(Debug, Parser)]
-#[command(name = "blockworld", version, about, long_about = None)]
+#[command(name = "blockworld", version = VERSION, about, long_about = None)]
 pub struct Cli {
     /// Log more (-v info, -vv debug).
     #[arg(short, long, action = clap::ArgAction::Count, global = true)]
@@ -27,7 +37,7 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Run the whole pipeline that exists so far on scenes/thesis_sample.json.
+    /// Settle, render, see, recognize, score and export scenes/thesis_sample.json.
     Demo(commands::demo::Args),
     /// Render the four corner views of a scene and their ground truth.
     Render(commands::render::Args),
@@ -57,6 +67,11 @@ pub enum Command {
     Bench(commands::bench::Args),
     /// The thesis's viewer: From/At/Up, view angle, 3D clipping (Ch. II, VI, Figures 6.7-6.12).
     View(commands::view::Args),
+    /// Print a shell completion script (bash, zsh or fish) on standard output.
+    Completions(commands::completions::Args),
+    /// Print reference pages generated from this command line (docs/cli.md).
+    #[command(hide = true)]
+    Docs(docs::Args),
 }
 
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
@@ -104,6 +119,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::ExportDataset(a) => commands::export_dataset::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::View(a) => commands::view::run(a),
+        Command::Completions(a) => commands::completions::run(a),
+        Command::Docs(a) => docs::run(a),
     }
 }
 

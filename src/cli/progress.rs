@@ -1,4 +1,4 @@
-//! Progress of long work (README "Exit codes and progress output"): an indicatif bar on stderr when stderr is
+//! Progress of long work (docs/cli.md "Exit codes and progress output"): an indicatif bar on stderr when stderr is
 //! a terminal; otherwise (batch jobs, CI logs) a plain line about every 5% of the work, once the
 //! work has run for a second, so quick commands stay silent and long ones show they are alive.
 

@@ -1,6 +1,6 @@
 //! Printing results on stdout the Unix way: a reader that has gone (`| head -1`, a closed pipe)
 //! ends the command quietly with exit 0, while a stdout that cannot take the bytes (`> /dev/full`,
-//! a full disk) is an error with exit 2 like any other failed write (README "Exit codes and progress output").
+//! a full disk) is an error with exit 2 like any other failed write (docs/cli.md "Exit codes and progress output").
 //! `println!` would panic in both cases, so every command prints through [`outln!`] and [`out!`].
 
 use std::io::Write;

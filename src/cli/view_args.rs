@@ -7,7 +7,7 @@ use blockworld::geom::ISOMETRIC_ELEVATION_DEG;
 use blockworld::render::photo::sensor::SensorModel;
 use blockworld::render::{Backend, Look, PhotoOptions, RenderOptions};
 
-/// How views are rendered (README "Rendering").
+/// How views are rendered (docs/rendering.md "Rendering").
 #[derive(Debug, Clone, clap::Args)]
 pub struct ViewArgs {
     /// Views to render, comma separated (ne, se, sw, nw).
@@ -42,7 +42,7 @@ pub struct ViewArgs {
     #[arg(long, default_value = "vulkan")]
     pub backend: String,
     /// Picture look: lineart (flat faces with drawn seams, default), photo (shading, shadows
-    /// and a camera sensor; README "Photographic look") or photo_varied (the photo look with
+    /// and a camera sensor; docs/rendering.md "Photographic look") or photo_varied (the photo look with
     /// light, shadows, edges, albedos, sensor, size and projection drawn per scene;
     /// docs/varied-look.md).
     #[arg(long, default_value = "lineart")]

@@ -3,7 +3,7 @@
 //! lowest level to the upper levels".
 //!
 //! ## Frame
-//! Positions are world millimetres as the cameras define them (README "Conventions": +y up,
+//! Positions are world millimetres as the cameras define them (docs/formats.md "Conventions": +y up,
 //! the floor at y = 0, +x east, -z north), so a reconstruction scores directly against its
 //! truth scene. The thesis instead places its sample relative to a **reference vertex**
 //! (Chapter VI, "Display the Final Sample"): the vertex with the least picture x, where x = 0,

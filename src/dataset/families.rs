@@ -1,4 +1,4 @@
-//! Scene families (README "Settling and datasets"): seeded random scenes of each kind the thesis's
+//! Scene families (docs/datasets.md "Settling"): seeded random scenes of each kind the thesis's
 //! method covers, and of the kinds it names as failures (Chapter VII).
 //!
 //! Supported families put blocks on a 7.5 mm grid in uniform direction (yaw a multiple of

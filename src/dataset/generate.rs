@@ -1,5 +1,5 @@
 //! One dataset scene from its seed: draw from the family, validate, settle, redraw until stable
-//! (README "Settling and datasets": "Unstable draws are rejected and redrawn, counted in the log"). Pure: no I/O.
+//! (docs/datasets.md "Settling": "Unstable draws are rejected and redrawn, counted in the log"). Pure: no I/O.
 
 use super::families::{family_scene, Family};
 use super::DatasetError;

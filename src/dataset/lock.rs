@@ -1,4 +1,4 @@
-//! The dataset lock (README "Settling and datasets", concurrent writers): two runs writing the
+//! The dataset lock (docs/datasets.md "Settling", concurrent writers): two runs writing the
 //! same scenes into one folder would delete each other's temporary files, so a writer takes
 //! `flock` locks first. A whole-dataset run holds `.lock` exclusively; a shard run holds `.lock`
 //! shared plus `.lock.shard-I-of-N` exclusively, so the shards of one dataset written by

@@ -1,4 +1,4 @@
-//! The manifest: one JSON line per scene, in scene-id order (README "Settling and datasets"):
+//! The manifest: one JSON line per scene, in scene-id order (docs/datasets.md "Settling"):
 //! `{"id", "index", "family", "seed", "blocks", "supported", "reason"?, "attempts", "files"}`,
 //! `files` mapping every file of the scene folder to the sha256 of its bytes.
 

@@ -2,7 +2,7 @@
 //! of pictures (four views of gray, depth and ids at 512 x 480). glibc's allocator hands blocks
 //! of that size back to the kernel when they are freed (`mmap` threshold and heap trimming), so
 //! every scene faulted in fresh zeroed pages again. Measured with `perf stat` on `bench
-//! generate` (README "Benchmarks"): 60,000-141,000 page faults per 100 scenes, about 11,700
+//! generate` (docs/benchmarks.md "Benchmarks"): 60,000-141,000 page faults per 100 scenes, about 11,700
 //! with the heap kept, and the median CPU time of four runs 8% lower. The output does not
 //! change.
 

@@ -1,4 +1,4 @@
-//! Synthetic datasets (README "Settling and datasets"): seeded scene families (Chapter VII's supported cases and its
+//! Synthetic datasets (docs/datasets.md "Settling"): seeded scene families (Chapter VII's supported cases and its
 //! named failures), settled with `physics`, rendered with `render`, written one folder per
 //! scene with a manifest of sha256 hashes, sliced into shards for Slurm or Kubernetes, resumed
 //! after an interruption and merged.

@@ -1,4 +1,4 @@
-//! Where a dataset's scene folders go on disk (README "Settling and datasets", file system).
+//! Where a dataset's scene folders go on disk (docs/datasets.md "Settling", file system).
 //!
 //! `generate` creates 22 files per scene (four views of five files, `scene.json`, `done.json`).
 //! On ext4 without a journal (this project's machines), creating a file skips, one by one,

@@ -58,7 +58,7 @@ pub struct DatasetOptions {
     pub scene_file: Option<SceneFileEncoder>,
     /// When each scene's files reach the disk: [`FileSync::Verified`] (the default of
     /// `generate`) syncs none of them, its done marker included, since a resume parses the
-    /// marker and re-hashes every file it lists (README "Settling and datasets", durability);
+    /// marker and re-hashes every file it lists (docs/datasets.md "Settling", durability);
     /// [`FileSync::EveryFile`] (`--fsync`) syncs every file. Does not change the content.
     pub file_sync: FileSync,
 }
@@ -371,13 +371,13 @@ fn produce_scene(
 }
 
 /// Scenes handed to the worker threads at once: memory stays bounded whatever `--count`
-/// (README "Settling and datasets": generation streams).
+/// (docs/datasets.md "Settling": generation streams).
 const CHUNK_SCENES: usize = 1024;
 
 /// Generates (or resumes) this shard of the dataset in `dir`, in parallel on `opts.jobs`
 /// threads, rendering through `renderers` (none when `opts.views` is empty): worker `k` renders
 /// through `renderers[k % renderers.len()]`, so with a device per worker two scenes render at
-/// once instead of queueing for one device's lock (README "Benchmarks"; every device renders
+/// once instead of queueing for one device's lock (docs/benchmarks.md "Benchmarks"; every device renders
 /// the same bytes). `progress(done, total)` is called
 /// after each scene. Holds the dataset lock (a second writer of the same scenes is refused),
 /// streams the scenes in chunks of [`CHUNK_SCENES`] and their manifest lines into a temporary

@@ -26,7 +26,7 @@ impl EdgeAxis {
     pub const BLOCK_AXES: [EdgeAxis; 3] = [EdgeAxis::Vertical, EdgeAxis::WorldX, EdgeAxis::WorldZ];
 
     /// The world directions of a trapezoidal block's sloped edges (the wedge `w30`, thesis
-    /// Figure 7.1; README "Block catalog"): 45 degrees up from x or z, either way. In a corner
+    /// Figure 7.1; docs/formats.md "Block catalog"): 45 degrees up from x or z, either way. In a corner
     /// view they add a fourth and fifth picture direction to the three of [`Self::BLOCK_AXES`].
     pub const TRAPEZOID_SLOPES: [EdgeAxis; 4] = [
         EdgeAxis::World([FRAC_1_SQRT_2, FRAC_1_SQRT_2, 0.0]),

@@ -6,7 +6,7 @@
 //! ## Bit order
 //! Chapter IV: bit 0 up, 1 down, 2 left-up, 3 left-down, 4 right-up, 5 right-down; its worked
 //! example up + down + ld + ru = 27. Appendix A (Figure A.6) prints another order and its
-//! row E contradicts it; this crate follows Chapter IV (see README "Thesis readings").
+//! row E contradicts it; this crate follows Chapter IV (see docs/thesis-readings.md "Thesis readings").
 
 mod axis;
 mod code;
@@ -83,7 +83,7 @@ pub struct LineDrawing {
     /// Lines that are chords of a curved edge (a round part's rim, Chapter VII's "circles"):
     /// consecutive curved lines form a polyline whose every point lies exactly on the
     /// projected circle. Absent from the JSON when empty, so straight-line drawings keep their
-    /// bytes (README "The exact line drawing").
+    /// bytes (docs/formats.md "The exact line drawing").
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub curved_lines: Vec<usize>,
 }
@@ -111,7 +111,7 @@ impl LineDrawing {
     /// The isometric cube of Appendix A's Figure A.2 (Chapter IV's worked example): a hexagon
     /// of corners A..F, top vertex first, clockwise, around the middle fork G, the hexagon's
     /// radius `scale_px` and G at `origin_px`; codes and junctions computed. Chapter IV's bit
-    /// order gives A..G the codes 40, 14, 9, 21, 33, 50, 22 (README "Thesis readings").
+    /// order gives A..G the codes 40, 14, 9, 21, 33, 50, 22 (docs/thesis-readings.md "Thesis readings").
     pub fn isometric_cube(scale_px: f64, origin_px: DVec2) -> LineDrawing {
         let s = 3f64.sqrt() / 2.0;
         let unit = [
@@ -206,7 +206,7 @@ mod tests {
     fn cube_codes_follow_chapter_iv_bit_order() {
         let d = cube();
         let codes: Vec<u8> = d.codes.iter().map(|c| c.0).collect();
-        // The set of README "The exact line drawing": top 40, middle fork 22.
+        // The set of docs/formats.md "The exact line drawing": top 40, middle fork 22.
         assert_eq!(codes, vec![40, 14, 9, 21, 33, 50, 22]);
         assert_eq!(d.junctions[6], Junction::Fork);
         assert_eq!(d.junctions[0], Junction::L);
@@ -214,7 +214,7 @@ mod tests {
     }
 
     #[test]
-    fn json_has_the_issue_2_field_names() {
+    fn json_has_the_documented_field_names() {
         let v: serde_json::Value = serde_json::from_str(&cube().to_json()).unwrap();
         for key in ["points", "lines", "codes", "junctions"] {
             assert!(v.get(key).is_some(), "{key}");

@@ -13,7 +13,7 @@ use serde::Deserialize;
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum DrawingError {
     /// Not JSON, or JSON without the drawing's fields.
-    #[error("not a line drawing: {0} (expected {{\"points\": [[x, y], ...], \"lines\": [[i, j], ...]}}, README \"The exact line drawing\")")]
+    #[error("not a line drawing: {0} (expected {{\"points\": [[x, y], ...], \"lines\": [[i, j], ...]}}, docs/formats.md \"The exact line drawing\")")]
     Format(String),
     /// A point with a NaN or infinite coordinate.
     #[error("point {index} has a coordinate that is not finite")]
@@ -256,7 +256,7 @@ mod tests {
     }
 
     /// `curved_lines` reads back as written and is left out of a straight drawing's JSON
-    /// (README "The exact line drawing").
+    /// (docs/formats.md "The exact line drawing").
     #[test]
     fn curved_lines_round_trip_and_are_absent_when_empty() {
         let text = r#"{"points": [[0, 0], [1, 1], [3, 1]], "lines": [[0, 1], [1, 2]], "curved_lines": [0, 1]}"#;

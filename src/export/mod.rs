@@ -7,7 +7,7 @@
 //! primitives) and one node per block (its pose), so a scene or a reconstruction can be looked
 //! at from any viewpoint outside blockworld.
 //!
-//! Units and axes: glTF is metres, +y up, right-handed. Those are blockworld's axes (README
+//! Units and axes: glTF is metres, +y up, right-handed. Those are blockworld's axes (docs/formats.md
 //! "Conventions"), so the only conversion is mm -> m (x 0.001). Everything here is pure: the
 //! functions return bytes and `cli` writes them.
 

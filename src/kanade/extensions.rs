@@ -15,7 +15,7 @@ use crate::geom::DVec3;
 pub const SAME_POINT_TOLERANCE_MM: f64 = 1e-3;
 
 /// The 3D facts of one junction of an exact drawing (`linedraw`, whose lines carry their
-/// blocks and 3D ends, README "The exact line drawing").
+/// blocks and 3D ends, docs/formats.md "The exact line drawing").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct JunctionFacts {
     /// How many blocks own the junction's lines (for cracks and contact edges the touching

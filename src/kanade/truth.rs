@@ -1,5 +1,5 @@
 //! The true labelling of a ground-truth drawing (`lines_<view>.json` carries every line's kind,
-//! README "The exact line drawing") and the check whether a labelling is consistent with a
+//! docs/formats.md "The exact line drawing") and the check whether a labelling is consistent with a
 //! catalog, junction by junction: how the labeller is measured on rendered scenes.
 
 use super::catalog::Catalog;

@@ -11,7 +11,7 @@ use super::unit_interval_complement;
 use crate::geom::{newell_vector, DVec3, CONTACT_TOL_MM};
 
 /// How far behind a face's plane a point must be to count as hidden, and how far outside its
-/// pyramid it may be and still count as inside, in mm: the contact tolerance of README
+/// pyramid it may be and still count as inside, in mm: the contact tolerance of docs/formats.md
 /// "Conventions". An edge lying on a face (its own, or a touching block's) stays visible; an
 /// edge seen exactly behind the boundary of two faces (the back edge of a cube seen along its
 /// diagonal) is hidden, not left as a sliver between the two pyramids.

@@ -243,7 +243,7 @@ impl SceneGeometry {
 
 /// A uniform grid over the picture boxes of the front faces: a query visits only the faces
 /// whose boxes share a cell with it, instead of every face, so the hidden-line removal grows
-/// near linearly with the blocks of a spread-out scene (README "Benchmarks", scale). Queries
+/// near linearly with the blocks of a spread-out scene (docs/benchmarks.md "Benchmarks", scale). Queries
 /// return a superset of the faces whose boxes meet the query box, in ascending face order, so
 /// results do not depend on the grid.
 pub(super) struct FaceGrid {

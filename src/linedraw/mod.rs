@@ -1,5 +1,5 @@
 //! The exact visible line drawing of a scene in a camera, by hidden-line removal on the block
-//! polyhedra (not from pixels): the ground truth `lines_<view>.json` of README "Rendering", in the
+//! polyhedra (not from pixels): the ground truth `lines_<view>.json` of docs/rendering.md "Rendering", in the
 //! vocabulary of Chapter IV (lines, junctions, six-bit codes) and Kanade's labels (Chapter II).
 //!
 //! ## Why a stage of its own, and why this name
@@ -48,10 +48,10 @@
 //! A round part's own lines come from `round` in closed form (rims as chords with every end on
 //! the exact circle, flagged in [`LineDrawing::curved_lines`]; the silhouette generators at the
 //! exact tangent angles); its faces, for hiding and for the classifying rays, are its catalog
-//! prism's (within 0.009 mm of the cylinder, README "Block catalog").
+//! prism's (within 0.009 mm of the cylinder, docs/formats.md "Block catalog").
 //!
 //! ## Contact policy
-//! Settled poses are not flush (README "The exact line drawing"). Faces parallel within
+//! Settled poses are not flush (docs/formats.md "The exact line drawing"). Faces parallel within
 //! [`TruthTolerances::parallel_deg`] and within [`TruthTolerances::seam_mm`] of each other
 //! count as one surface, and a face hides nothing closer than [`TruthTolerances::contact_mm`]
 //! ([`crate::geom::CONTACT_TOL_MM`]). `seam_mm` is twice the contact tolerance because two
@@ -83,7 +83,7 @@ pub struct TruthTolerances {
     /// Faces whose normals differ by less than this are parallel, in degrees; default 0.5.
     pub parallel_deg: f64,
     /// Line ends closer than this in the picture are always one point, in px; default 0.01
-    /// (README "The exact line drawing").
+    /// (docs/formats.md "The exact line drawing").
     pub merge_px: f64,
     /// How far beside a line the classifying rays look, in mm; default 0.3 (larger than any
     /// seam gap, far smaller than a block).
@@ -121,7 +121,7 @@ pub fn visible_line_drawing_with_tolerances(
 /// [`visible_line_drawing_with_tolerances`] reporting `(done, total)` as it goes: the hidden-line
 /// removal and the classification each count the scene's edges once (`total` is twice the
 /// number of edges), so a large scene's drawing, which takes seconds, can show progress
-/// (README "Exit codes and progress output").
+/// (docs/cli.md "Exit codes and progress output").
 pub fn visible_line_drawing_with_progress(
     scene: &Scene,
     camera: &Camera,

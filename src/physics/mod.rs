@@ -1,4 +1,4 @@
-//! Settling scenes with rapier3d (README "Settling and datasets"): the only home of rapier3d.
+//! Settling scenes with rapier3d (docs/datasets.md "Settling"): the only home of rapier3d.
 //!
 //! A scene's blocks are dropped from a small gap above their intended poses onto a fixed floor
 //! and simulated until the stack is **at rest** (every body below [`SettleParams::rest_speed_mm_s`]
@@ -9,13 +9,13 @@
 //! not meant to (the thesis's Chapter VII constraint: every block rests on the floor or on other
 //! blocks, "contacted at least by one surface").
 //!
-//! Units (see README "Dependencies"): rapier runs in **metres** with
+//! Units (see docs/architecture.md "Dependencies"): rapier runs in **metres** with
 //! `length_unit` = 0.01 (block-sized slop, prediction distance and sleep thresholds), gravity
 //! -9.81 m/s², a 1/240 s step and stiff contacts (240 Hz between bodies, 480 Hz against the
 //! floor), so resting blocks sink only about 0.03 mm into their supports instead of 0.4 mm and
 //! tall towers stay up (see [`SettleParams::dt_s`]).
 //!
-//! Policy for the settled scene (README "The exact line drawing"):
+//! Policy for the settled scene (docs/formats.md "The exact line drawing"):
 //! a **stable** scene is written back at its *intended* poses, as `rotation` quaternions, and
 //! the measured drift goes into `meta.settle`; the exact line drawing keeps every seam and
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
@@ -47,7 +47,7 @@ pub struct SettleParams {
     /// unstable.
     pub max_time_s: f64,
     /// Rest criterion, speed: every body's centre moves slower than this, mm/s; default 1 (the
-    /// peer benchmark's threshold, README "Benchmarks").
+    /// peer benchmark's threshold, docs/benchmarks.md "Benchmarks").
     pub rest_speed_mm_s: f64,
     /// Rest criterion, spin: every body turns slower than this, rad/s; default 0.05.
     pub rest_spin_rad_s: f64,
@@ -57,9 +57,9 @@ pub struct SettleParams {
     /// does far more: the overhanging b15 of the unit tests, its centre of mass 2.5 mm beyond
     /// the edge, reaches 0.05 rad/s within a step. The pose tolerances judge the rest.
     pub rest_hold_s: f64,
-    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (README "Settling and datasets").
+    /// Largest allowed centre drift from the intended pose, mm; default 0.5 (docs/datasets.md "Settling").
     pub drift_tol_mm: f64,
-    /// Largest allowed turn from the intended orientation, degrees; default 1 (README "Settling and datasets").
+    /// Largest allowed turn from the intended orientation, degrees; default 1 (docs/datasets.md "Settling").
     pub turn_tol_deg: f64,
     /// Gap per layer the blocks are lifted by before the drop, mm; default 0.05. A block whose
     /// bottom is at layer `k` (counting distinct bottom heights from the floor, `k` = 0 on the
@@ -148,7 +148,7 @@ pub enum PhysicsError {
     Params(String),
 }
 
-/// Settles `scene` with rapier3d and judges its stability (README "Settling and datasets").
+/// Settles `scene` with rapier3d and judges its stability (docs/datasets.md "Settling").
 ///
 /// Deterministic: the same scene and parameters give bit-identical results (rapier's
 /// `enhanced-determinism`; one thread per scene).

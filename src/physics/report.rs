@@ -1,5 +1,5 @@
 //! The settling report: how far each block moved and turned, whether it touches the floor, and
-//! the verdict (README "Settling and datasets").
+//! the verdict (docs/datasets.md "Settling").
 
 use super::SettleParams;
 use crate::geom::{DQuat, DVec3};

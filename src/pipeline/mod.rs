@@ -114,7 +114,7 @@ pub fn unseen_blocks(scene: &Scene, views: &[RenderedView]) -> Vec<usize> {
 /// Why the exact drawings `truth_views` of `scene` cannot decide it, if they cannot: a block
 /// with no line in any view, or another set of catalog blocks (one block split in two, or two
 /// merged: a crack hidden in every view) that draws every view as the truth does. No picture
-/// taken from these views can then tell the scene from the alternative (README "Recognizer",
+/// taken from these views can then tell the scene from the alternative (docs/recognizer.md "Recognizer",
 /// counted apart like blocks no view shows).
 pub fn undecided_by_views(
     scene: &Scene,
@@ -235,7 +235,7 @@ pub fn run_suite(
 }
 
 /// A run is *confidently wrong* when the recognizer answered `ok` but the answer is not exact:
-/// the worst outcome a recognizer can give (README "Recognizer").
+/// the worst outcome a recognizer can give (docs/recognizer.md "Recognizer").
 pub fn is_confidently_wrong(run: &SceneRun) -> bool {
     run.reconstruction.as_ref().is_some_and(|r| r.is_ok())
         && run.result.verdict != crate::score::Verdict::Exact

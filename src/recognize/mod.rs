@@ -93,7 +93,7 @@ pub struct ObservedView {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RecognizeOptions {
     /// Points closer than this are the same point, px; default 2 (the vision front end's
-    /// vertices lie within 0.5 px on average, README "Vision front end").
+    /// vertices lie within 0.5 px on average, docs/vision.md "Vision front end").
     pub tol_px: f64,
     /// Highest top face considered, mm; default 120 (eight 15 mm layers).
     pub max_height_mm: f64,
@@ -542,7 +542,7 @@ pub fn recognize(
 
 /// [`recognize`] with the pictures the views' drawings were read from (one per view, in the
 /// same order; none = [`recognize`]): step 6 then asks the picture where a hypothesis's exact
-/// redraw and a vision drawing differ ([`picture_check`], README "Recognizer"): an edge too
+/// redraw and a vision drawing differ ([`picture_check`], docs/recognizer.md "Recognizer"): an edge too
 /// faint for the front end is confirmed by a step or crack across it, a drawing feature the
 /// redraw lacks is tolerated only when the picture shows it weak. The answer still comes from
 /// the drawings alone.

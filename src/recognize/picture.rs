@@ -1,4 +1,4 @@
-//! Step 6 with the pictures themselves (README "Recognizer", "Photographic look"): when a
+//! Step 6 with the pictures themselves (docs/recognizer.md "Recognizer", docs/rendering.md "Photographic look"): when a
 //! hypothesis's exact redraw and a view's vision drawing differ, the picture the drawing was
 //! read from is asked, as the thesis's line finder read its edge pixels: across the line.
 //!
@@ -64,7 +64,7 @@ impl<'a> ViewPicture<'a> {
 
     /// `true` when the point tolerance `tol_px` spans at most [`MAX_TOLERANCE_MM`] on the
     /// blocks: only then does reading the picture decide between hypotheses as finely as the
-    /// drawings' check (README "Photographic look": at 128 x 120 the 2 px are 2.7 mm).
+    /// drawings' check (docs/rendering.md "Photographic look": at 128 x 120 the 2 px are 2.7 mm).
     pub fn fine_enough(&self, tol_px: f64) -> bool {
         self.px_per_mm * MAX_TOLERANCE_MM >= tol_px
     }
@@ -106,8 +106,7 @@ pub const END_MARGIN_PX: f64 = 4.0;
 /// is of the sharp solid, the picture of a bevelled one).
 pub const SEARCH_PX: f64 = 2.0;
 /// How much further apart a contact edge's end may lie in the picture than the point
-/// tolerance allows, mm: the photographed crack's half width (0.15 mm, README "Photographic
-/// look": faces that touch draw back 0.15 mm each) plus the bevel beside it (0.05 mm) and as
+/// tolerance allows, mm: the photographed crack's half width (0.15 mm, docs/rendering.md "Photographic look": faces that touch draw back 0.15 mm each) plus the bevel beside it (0.05 mm) and as
 /// much again for the edge fit pulled into the crack's dark middle.
 pub const CRACK_ALLOWANCE_MM: f64 = 0.4;
 

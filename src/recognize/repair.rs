@@ -1,4 +1,4 @@
-//! Step 6 with the pictures, one move further (README "Recognizer", "Photographic look"): when
+//! Step 6 with the pictures, one move further (docs/recognizer.md "Recognizer", docs/rendering.md "Photographic look"): when
 //! the search's best hypothesis is explained neither by the drawings nor by the pictures, its
 //! neighbours are tried. The search ranks hypotheses by how many drawing features they leave
 //! unexplained, and on camera pictures the front end misses faint edges, so the true blocks

@@ -3,7 +3,7 @@
 //! blocks can be distinguished").
 //!
 //! Every line of a scene of blocks in one direction depicts one of a few world directions: the
-//! three axes of the solid blocks, and the 45-degree slope of a trapezoidal block (`w30`, README
+//! three axes of the solid blocks, and the 45-degree slope of a trapezoidal block (`w30`, docs/formats.md
 //! "Block catalog") facing +-x or +-z, a fourth and fifth picture direction in each view. Two
 //! lines meeting at an L, fork or arrow junction span a face plane; its gradient `(p, q)` in
 //! the camera frame (`z = p x + q y`, x right, y up, z towards the eye, as in Chapter II's
@@ -147,7 +147,7 @@ pub fn sloped_lines(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) -> Vec
         .collect()
 }
 
-/// The trapezoidal blocks of the catalog (README "Block catalog": the wedge `w30`), each with
+/// The trapezoidal blocks of the catalog (docs/formats.md "Block catalog": the wedge `w30`), each with
 /// its one sloped face (a face whose normal is none of the local axes).
 pub fn trapezoidal_blocks() -> impl Iterator<Item = (&'static BlockType, usize)> {
     CATALOG.iter().filter_map(|t| {

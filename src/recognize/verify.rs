@@ -238,7 +238,7 @@ impl ViewMismatch {
 }
 
 /// [`compare_drawings`] feature by feature: which points and lines of `drawn` and `observed`
-/// the other drawing does not explain (step 6's check, README "Recognizer").
+/// the other drawing does not explain (step 6's check, docs/recognizer.md "Recognizer").
 pub fn mismatched_features(
     drawn: &LineDrawing,
     observed: &LineDrawing,

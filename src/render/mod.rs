@@ -1,4 +1,4 @@
-//! The off-screen renderer (README "Rendering"): grayscale 45-degree corner views of a scene, rendered with
+//! The off-screen renderer (docs/rendering.md "Rendering"): grayscale 45-degree corner views of a scene, rendered with
 //! wgpu (Vulkan on lavapipe by default), plus their ground truth: depth, block ids and the exact
 //! visible line drawing computed from geometry.
 //!
@@ -45,7 +45,7 @@ pub struct RenderOptions {
     /// Seed of the noise (the same seed gives the same noise).
     #[serde(skip)]
     pub seed: u64,
-    /// Line art (the default) or photo (README "Photographic look").
+    /// Line art (the default) or photo (docs/rendering.md "Photographic look").
     #[serde(skip_serializing_if = "Look::is_line_art")]
     pub look: Look,
     /// 1 (the default), 2 or 4: the written picture is the rendered one averaged 2 x 2 once
@@ -173,7 +173,7 @@ pub enum RenderError {
     Options(String),
 }
 
-/// What to install or try when `backend` ("Vulkan" or "GL") has no adapter (README
+/// What to install or try when `backend` ("Vulkan" or "GL") has no adapter (docs/rendering.md
 /// "Rendering"): the other backend is suggested, never the one that just failed.
 fn no_adapter_hint(backend: &str) -> &'static str {
     if backend == "GL" {
@@ -189,7 +189,7 @@ fn no_adapter_hint(backend: &str) -> &'static str {
 pub const BACKGROUND_LEVEL: u8 = 20;
 
 /// Gray level of the seam drawn along every block face edge, so that touching blocks stay
-/// distinguishable (README "Rendering"; real Fischer-Technik blocks show a dark gap there).
+/// distinguishable (docs/rendering.md "Rendering"; real Fischer-Technik blocks show a dark gap there).
 pub const SEAM_LEVEL: u8 = 35;
 
 /// Half width of the seam in px: a fragment whose pixel centre lies closer than this to the
@@ -271,7 +271,7 @@ impl Renderer {
     }
 
     /// The pixels of the given views, `lines` empty: all views drawn in one GPU submission and
-    /// read back after one wait (README "Benchmarks": the per-submission cost of lavapipe is paid
+    /// read back after one wait (docs/benchmarks.md "Benchmarks": the per-submission cost of lavapipe is paid
     /// once per scene). The pixels are those of [`Renderer::render_pixels`] view by view.
     pub fn render_views_pixels(
         &self,

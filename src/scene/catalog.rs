@@ -227,7 +227,7 @@ pub struct BlockType {
     pub shape: Shape,
 }
 
-/// The catalog (README "Block catalog"): ids and sizes as x length, y height, z width in mm.
+/// The catalog (docs/formats.md "Block catalog"): ids and sizes as x length, y height, z width in mm.
 ///
 /// | id | name | x | y | z |
 /// |---|---|---|---|---|
@@ -408,7 +408,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn catalog_sizes_match_issue_2() {
+    fn catalog_sizes_are_the_fischer_technik_blocks() {
         let size = |id| block_type(id).unwrap().size_mm().to_array();
         assert_eq!(size("b15"), [15.0, 15.0, 15.0]);
         assert_eq!(size("b30"), [30.0, 15.0, 15.0]);

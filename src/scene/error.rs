@@ -15,7 +15,7 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// Not JSON, or JSON that does not fit the scene format (unknown fields are named here).
-    #[error("{source_name}: {message}; see README.md \"Scene files\" for the format")]
+    #[error("{source_name}: {message}; see docs/formats.md \"Scene files\" for the format")]
     Format {
         /// The file or source name.
         source_name: String,
@@ -58,7 +58,7 @@ pub enum SceneError {
         /// The file or source name.
         source_name: String,
     },
-    /// A block reaching outside the world (README "Conventions": |x|, |z| <= 10 m, y <= 10 m).
+    /// A block reaching outside the world (docs/formats.md "Conventions": |x|, |z| <= 10 m, y <= 10 m).
     #[error("{source_name}: block {index} lies outside the world: {message}; the world is |x|, |z| <= {half} mm and 0 <= y <= {height} mm, move the block inside", half = crate::geom::WORLD_HALF_EXTENT_MM, height = crate::geom::WORLD_HEIGHT_MM)]
     OutsideWorld {
         /// The file or source name.

@@ -1,4 +1,4 @@
-//! The scene file (README "Scene files"): JSON with `name`, `blocks` and optional `expect`;
+//! The scene file (docs/formats.md "Scene files"): JSON with `name`, `blocks` and optional `expect`;
 //! reconstruction files add `status`, `reason`, `csg` and `evidence`; generated files add
 //! `meta`. Unknown fields are errors that name the field.
 
@@ -157,7 +157,7 @@ fn parse_file(text: &str, source_name: &str) -> Result<(SceneFile, Vec<Block>), 
 }
 
 /// serde's derive also reads a record written as a positional array (`["name", [..]]`), a
-/// form README "Scene files" does not define and no writer produces: the file, each block, and
+/// form docs/formats.md "Scene files" does not define and no writer produces: the file, each block, and
 /// `expect`/`evidence` must be JSON objects with named fields.
 fn refuse_positional_records(text: &str, source_name: &str) -> Result<(), SceneError> {
     let value: serde_json::Value = serde_json::from_str(text).map_err(|e| SceneError::Format {
@@ -350,7 +350,7 @@ mod tests {
         "expect": {"supported": true}}"#;
 
     #[test]
-    fn issue_example_parses_and_round_trips() {
+    fn documented_example_parses_and_round_trips() {
         let s = parse_scene(TWO_LAYER, "two_layer.json").unwrap();
         assert_eq!(s.blocks.len(), 2);
         assert_eq!(s.blocks[1].block_type.id, "b15");

@@ -2,7 +2,8 @@
 //! scene-file format that every later stage reads, and its validation.
 //!
 //! A [`Scene`] is plain data. `scene::file` reads and writes it as JSON (the contract of
-//! README "Rendering", documented in README.md); [`Scene::validate`] rejects what cannot be a real stack:
+//! docs/formats.md "Scene files"); [`Scene::validate`] rejects what cannot be a real
+//! stack:
 //! blocks that overlap or sink below the floor, NaN poses.
 
 mod catalog;
@@ -29,7 +30,7 @@ use serde::{Deserialize, Serialize};
 
 /// `n` Baustein 15 in layers of `side` x `side` touching cubes, filled layer by layer from the
 /// floor (a stable stack whose every view shows seams): the one stack generator of the
-/// benchmarks (README "Benchmarks") and of the tests that count their cost.
+/// benchmarks (docs/benchmarks.md "Benchmarks") and of the tests that count their cost.
 pub fn b15_layers(n: usize, side: usize, name: String) -> Scene {
     let side = side.max(1);
     let blocks = (0..n)
@@ -256,7 +257,7 @@ impl Scene {
     }
 }
 
-/// Refuses a block with a vertex outside the world extent (README "Conventions"): finite but
+/// Refuses a block with a vertex outside the world extent (docs/formats.md "Conventions"): finite but
 /// huge coordinates would overflow the renderer's f32 and write `null` into cameras and glTF.
 pub(crate) fn check_in_world(b: &Block, index: usize, source: &str) -> Result<(), SceneError> {
     match b.world_vertices().into_iter().find_map(outside_world) {

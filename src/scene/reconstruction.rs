@@ -1,7 +1,6 @@
 //! A recognizer's answer: the blocks it placed, whether it stands behind them, why, the
 //! constructive solid geometry that composes them (Chapter IV "Construction of the Final
-//! Sample", Figure 4.6) and the evidence it checked them against (README "Reconstruction
-//! files").
+//! Sample", Figure 4.6) and the evidence it checked them against (docs/formats.md "Reconstruction files").
 //!
 //! The file format is a scene file plus `status`, `reason`, `csg` and `evidence`, so every
 //! command that reads scenes reads the blocks of a reconstruction the same way.
@@ -108,7 +107,7 @@ pub struct Evidence {
     pub pooled_candidates: usize,
 }
 
-/// A recognizer's answer (README "Reconstruction files").
+/// A recognizer's answer (docs/formats.md "Reconstruction files").
 #[derive(Debug, Clone, PartialEq)]
 pub struct Reconstruction {
     /// The scene's name.

@@ -1,5 +1,5 @@
 //! Convex polytopes in world millimetres and the exact volume of their intersection through
-//! parry3d's convex hull (the route measured in README "Dependencies": within 5e-7 relative of an f64 clipper; `intersect_meshes` is wrong
+//! parry3d's convex hull (the route measured in docs/architecture.md "Dependencies": within 5e-7 relative of an f64 clipper; `intersect_meshes` is wrong
 //! whenever faces are coplanar, which is the normal case for blocks, so it is not used).
 //!
 //! The intersection of two convex polytopes A and B is convex, and each of its vertices lies on

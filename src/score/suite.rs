@@ -1,5 +1,5 @@
 //! The accuracy suite: per-scene results, per-family summaries, and the golden gate that CI
-//! enforces (README "Scoring and the accuracy suite"; a scene marked unsupported that starts
+//! enforces (docs/accuracy.md "Scoring and the accuracy suite"; a scene marked unsupported that starts
 //! passing is itself a failure until someone changes its mark on purpose).
 
 use super::verdict::{score_reconstruction_with_options, ScoreOptions, Verdict};
@@ -32,7 +32,7 @@ pub struct SceneResult {
     /// A known failure case that came out `partial`: neither declined nor exact.
     pub unexpected_pass: bool,
     /// The recognizer answered `ok` but the answer is not `exact`: the worst outcome
-    /// (README "Recognizer").
+    /// (docs/recognizer.md "Recognizer").
     #[serde(default)]
     pub confidently_wrong: bool,
     /// Why the scene has no score (missing reconstruction file, scoring error).
@@ -188,7 +188,7 @@ pub struct GoldenScene {
 pub struct Golden {
     /// How the file is re-blessed (for a reader of the file).
     pub bless: String,
-    /// An IoU may fall at most this far below its golden value. 0.01 (README "Scoring and the accuracy suite").
+    /// An IoU may fall at most this far below its golden value. 0.01 (docs/accuracy.md "Scoring and the accuracy suite").
     pub iou_drop_tolerance: f64,
     /// The scenes, sorted by id.
     pub scenes: Vec<GoldenScene>,

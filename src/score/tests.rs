@@ -1,6 +1,6 @@
 //! Cross-checks of the exact volumes: an independent f64 convex clipper (Sutherland–Hodgman on
 //! faces, divergence theorem) and a Monte Carlo estimate through parry point containment, on
-//! seeded random poses; plus the hand-computed cases of README "Scoring and the accuracy suite".
+//! seeded random poses; plus the hand-computed cases of docs/accuracy.md "Scoring and the accuracy suite".
 
 use super::*;
 use crate::geom::{DQuat, DVec3};

@@ -61,7 +61,7 @@ impl Verdict {
 
     /// How good the verdict is, for the gate: `exact` 3, `unsupported` 2 (an honest decline),
     /// `partial` 1, `failed` 0. A decline ranks above a partial answer because a recognizer
-    /// must never be confidently wrong (README "Recognizer").
+    /// must never be confidently wrong (docs/recognizer.md "Recognizer").
     pub fn rank(self) -> u8 {
         match self {
             Verdict::Exact => 3,

@@ -5,7 +5,7 @@
 //! gets an outcode; a line is accepted when both codes are zero and rejected when their
 //! bitwise "and" is not zero, otherwise it is cut at the planes it crosses. The thesis lists
 //! four bits and prints `y_v > -z_v` for "below" and `x_v > -z_v` for "left"; the geometry says
-//! `y_v < -z_v` and `x_v < -z_v` (README "Thesis readings"), and the planes z = z_min and z = 1
+//! `y_v < -z_v` and `x_v < -z_v` (docs/thesis-readings.md "Thesis readings"), and the planes z = z_min and z = 1
 //! need two more bits, so [`OutCode`] has six.
 
 use crate::geom::DVec3;

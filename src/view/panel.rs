@@ -188,7 +188,7 @@ impl Default for SheetOptions {
     }
 }
 
-/// A rectangle of the sheet in picture pixels (x right, y up, origin bottom-left: README
+/// A rectangle of the sheet in picture pixels (x right, y up, origin bottom-left: docs/formats.md
 /// "Conventions").
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PixelRect {

@@ -2,7 +2,7 @@
 //! eq. 2.2-2.6), after Foley & van Dam (1982).
 //!
 //! The thesis writes row vectors (`p' = p M`, translation in the bottom row); blockworld's glam
-//! matrices act on column vectors (`p' = M p`, README "Conventions"), so every function here
+//! matrices act on column vectors (`p' = M p`, docs/formats.md "Conventions"), so every function here
 //! returns the transpose of the printed matrix. The tests check each one against the printed
 //! layout, row for row (`to_cols_array_2d` of a glam matrix lists the thesis's rows).
 
@@ -75,7 +75,7 @@ pub struct ViewingAxes {
 /// Eq. 2.5a-c: the viewing axes from the From point F, the At point A and the Up direction.
 ///
 /// The thesis sets `A' = A - F` and `U' = A - U`. With that sign A2 comes out as -Up: the
-/// picture is upside down on a y-up picture (README "Thesis readings"). blockworld follows the
+/// picture is upside down on a y-up picture (docs/thesis-readings.md "Thesis readings"). blockworld follows the
 /// geometry and takes `U' = Up`, the up direction (the thesis's "up point" relative to the At
 /// point), so that A2 is the component of Up across the line of sight:
 /// A3 = A'/|A'|, A1 = (A' × U')/|A' × U'|, A2 = ((A' × U') × A')/|(A' × U') × A'|.

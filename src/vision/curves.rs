@@ -2,7 +2,7 @@
 //! or circles, the parallelogram surface searching fails"). A round part's rims project to
 //! ellipses; the straight-line finder ([`super::fit_lines`]) sees only pieces of them, where the
 //! ellipse runs along a block direction for a while, and drops the rest. This step reports them
-//! as curves instead, the way the exact drawing does (README "The exact line drawing":
+//! as curves instead, the way the exact drawing does (docs/formats.md "The exact line drawing":
 //! `curved_lines`, chords of the curve):
 //!
 //! 1. **Residue**: the edge pixels farther than [`NEAR_LINE_PX`] from every fitted straight line
@@ -469,7 +469,7 @@ fn bends_smoothly(curve: &CurvedEdge) -> bool {
 }
 
 /// Appends `curves` to `drawing` as chains of lines flagged in `curved_lines` (the format of
-/// the exact drawing, README "The exact line drawing") and recomputes codes and junctions.
+/// the exact drawing, docs/formats.md "The exact line drawing") and recomputes codes and junctions.
 pub fn add_curved_edges(drawing: &mut LineDrawing, curves: &[CurvedEdge]) {
     for curve in curves {
         let first = drawing.points.len();

@@ -2,7 +2,7 @@
 //! Figure 2.7 kernels), 3x3 mean smoothing and a threshold (Chapter VI, "The Effect of the Sobel
 //! Operator"), giving a binary edge map.
 //!
-//! Readings (README "Thesis readings"): eq. 2.1b prints `- f(m-1,n+1)`; the Figure 2.7
+//! Readings (docs/thesis-readings.md "Thesis readings"): eq. 2.1b prints `- f(m-1,n+1)`; the Figure 2.7
 //! kernel and symmetry say `+`, which is what is computed here. The border is handled by
 //! repeating the edge pixel, which reproduces the thesis's 3x11 worked example exactly.
 //!
@@ -32,7 +32,7 @@ pub struct EdgeOptions {
     /// A smoothed magnitude strictly above this is an edge pixel. Default 80, the value the
     /// thesis used for its Figures 6.5 and 6.6 (Ch. VI); its worked 3x11 example uses 60.
     pub threshold: u16,
-    /// Hysteresis (README "Photographic look"): a smoothed magnitude above this, but not above
+    /// Hysteresis (docs/rendering.md "Photographic look"): a smoothed magnitude above this, but not above
     /// `threshold`, is an edge pixel too when it is 8-connected through such pixels to one above
     /// `threshold`. In a camera picture an edge between two faces of nearly equal shading (a lit
     /// bevel between them, 5-10 gray levels of step) gives 40-50, below the thesis's 80, while
@@ -40,7 +40,7 @@ pub struct EdgeOptions {
     /// magnitude (the noise on its faces) when that is higher, so sensor noise does not grow
     /// along edges; equal to `threshold` (or above) turns hysteresis off. Default 80, off:
     /// at 40 or 30 on the photo-look accuracy suite it also kept the soft shadows' edges near
-    /// contacts and made fewer views match their exact drawings (README "Photographic look");
+    /// contacts and made fewer views match their exact drawings (docs/rendering.md "Photographic look");
     /// the faint edges are read between found vertices instead (`add_faint_edges`).
     pub weak_threshold: u16,
     /// Which 3x3 window smooths the magnitude; default [`SmoothWindow::Centred`].

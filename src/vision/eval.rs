@@ -1,4 +1,4 @@
-//! Measuring the front end against ground truth (README "Vision front end", "Measured against ground truth"):
+//! Measuring the front end against ground truth (docs/vision.md "Vision front end"):
 //! vertices are matched one to one to the exact drawing's points within a distance, and the
 //! matched pairs' six-bit codes compared; fitted lines are compared with the exact lines' angles.
 
@@ -8,7 +8,7 @@ use crate::drawing::LineDrawing;
 /// Tolerances of [`match_vertices_with_tolerances`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MatchTolerances {
-    /// A found vertex matches a true point at most this far away, px. Default 2.0 (README "Vision front end").
+    /// A found vertex matches a true point at most this far away, px. Default 2.0 (docs/vision.md "Vision front end").
     pub distance_px: f64,
     /// A fitted line is compared with a true line when both make at most this angle, degrees,
     /// and the fitted line's midpoint lies within `distance_px` of the true segment. Default 10.

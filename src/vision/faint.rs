@@ -1,5 +1,4 @@
-//! Step 3b of the vision front end: faint edges between found vertices (README "Photographic
-//! look").
+//! Step 3b of the vision front end: faint edges between found vertices (docs/rendering.md "Photographic look").
 //!
 //! Two faces of nearly equal shading meet in an edge of a few gray levels (in a camera picture,
 //! a bevel's highlight between a face and its neighbour lit almost alike): too weak for Chapter

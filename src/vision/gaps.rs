@@ -1,5 +1,5 @@
 //! Step 2b of the vision front end: lines that stop short of where they must end are carried
-//! on to it (README "Vision front end", "Photographic look").
+//! on to it (docs/vision.md "Vision front end", docs/rendering.md "Photographic look").
 //!
 //! In a line drawing of blocks every line ends in a junction: an "L", a fork, an arrow, or a "T"
 //! where it meets another line (Chapter IV's six-bit codes have no one-line vertex). In a

@@ -225,7 +225,7 @@ pub fn isometric_edge_directions() -> Vec<(EdgeAxis, EdgeDirection)> {
 }
 
 /// Picture coordinates (px, y up) of the centre of raster pixel `(col, row)` in an image of
-/// `height` rows (README "Picture coordinates": row `r` -> `y = H - r - 0.5`).
+/// `height` rows (docs/formats.md "Conventions": row `r` -> `y = H - r - 0.5`).
 pub fn picture_from_raster(col: u32, row: u32, height: u32) -> DVec2 {
     DVec2::new(col as f64 + 0.5, height as f64 - row as f64 - 0.5)
 }

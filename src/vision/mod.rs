@@ -1,4 +1,4 @@
-//! The vision front end (README "Vision front end"): the thesis's image stage, from a grayscale corner view to a
+//! The vision front end (docs/vision.md "Vision front end"): the thesis's image stage, from a grayscale corner view to a
 //! line drawing with six-bit codes.
 //!
 //! 1. [`sobel_magnitude`], [`smooth_3x3`], [`threshold`]: the Sobel operator of Chapter II
@@ -159,8 +159,7 @@ pub fn detect_line_drawing(
 pub const VISION_STEPS: u64 = 3;
 
 /// [`detect_line_drawing`] reporting `(done, VISION_STEPS)` after each step, so vision on a
-/// large picture, which takes seconds, can show progress (README "Exit codes and progress
-/// output").
+/// large picture, which takes seconds, can show progress (docs/cli.md "Exit codes and progress output").
 pub fn detect_line_drawing_with_progress(
     image: &GrayImage,
     camera: &Camera,

@@ -1,5 +1,4 @@
-//! Step 2a of the vision front end: lines along soft shading are dropped (README "Photographic
-//! look").
+//! Step 2a of the vision front end: lines along soft shading are dropped (docs/rendering.md "Photographic look").
 //!
 //! The Sobel operator (eq. 2.1) answers to any change of brightness, and Chapter VI's threshold
 //! to any change strong enough. In a camera picture a block's soft shadow on a neighbour is such

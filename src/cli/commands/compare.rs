@@ -315,7 +315,7 @@ fn vs(measured: String, thesis: String) -> String {
 }
 
 fn print_words_table(rows: &[(&ThesisCase, Scene, Measured)]) {
-    println!("\nFigure 6.17, computer words (the labelling Kanade's model settles on: blocks catalog, gradient check; rules in README \"Kanade's model\"):\n");
+    println!("\nFigure 6.17, computer words (the labelling Kanade's model settles on: blocks catalog, gradient check; rules in docs/kanade.md \"Kanade's model\"):\n");
     let mut head = "| words |".to_string();
     let mut sep = "|---|".to_string();
     for (c, _, _) in rows {

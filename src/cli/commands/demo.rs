@@ -29,7 +29,13 @@ const DEMO_SCENE: &str = "scenes/thesis_sample.json";
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Output directory (created if missing).
-    #[arg(short, long, default_value = "out/demo")]
+    #[arg(
+        short,
+        long = "output",
+        alias = "out",
+        value_name = "OUTPUT",
+        default_value = "out/demo"
+    )]
     pub out: PathBuf,
     /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
     #[arg(long, default_value = "vulkan")]

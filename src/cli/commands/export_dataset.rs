@@ -1,5 +1,5 @@
 //! `blockworld export-dataset DATASET --format hawp|lcnn|letr -o OUT [--split 0.9]
-//! [--split-seed S] [--rgb] [--jobs N]` (README "Wireframe datasets"): a generated dataset's
+//! [--split-seed S] [--rgb] [--jobs N]` (docs/wireframe.md "Wireframe datasets"): a generated dataset's
 //! exact line drawings as training sets for learned wireframe parsers.
 //!
 //! Streams scene by scene (on `--jobs` threads): each scene's pictures and records are written
@@ -70,8 +70,9 @@ pub struct Args {
     /// LETR loaders take gray; HAWP v1 (its `parsing/` tree) needs RGB.
     #[arg(long)]
     pub rgb: bool,
-    /// Scenes exported at once. The work mostly waits on the disk (every file is synced before
-    /// its rename), so more threads than cores help. The output's bytes do not depend on it.
+    /// Scenes exported at once. Pictures and part files are written to a temporary name and
+    /// renamed without a sync each (a resumed run re-checks them by sha256); the annotation
+    /// files assembled at the end are synced. The output's bytes do not depend on it.
     #[arg(long, default_value_t = DEFAULT_JOBS)]
     pub jobs: usize,
 }
@@ -346,7 +347,7 @@ fn format_record(format: WireframeFormat, split: Split, filename: &str, wf: &Wir
 }
 
 /// Whether an earlier run finished the scene: its part file reads and every picture it lists
-/// is there with the sha256 it lists (like `generate`'s resume, README "Settling and datasets").
+/// is there with the sha256 it lists (like `generate`'s resume, docs/datasets.md "Settling").
 fn part_is_complete(part_path: &Path, output: &Path) -> bool {
     let Ok(text) = std::fs::read_to_string(part_path) else {
         return false;

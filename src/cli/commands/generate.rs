@@ -1,5 +1,5 @@
 //! `blockworld generate --count N --seed S -o DATASET [--family F ...] [--jobs J]
-//! [--shard I/N | --shards N] [view options]` (README "Settling and datasets").
+//! [--shard I/N | --shards N] [view options]` (docs/datasets.md "Settling").
 //!
 //! `--seed` is the dataset seed (shared with the view options, where it seeds sensor noise:
 //! here each scene's noise seed is its own scene seed). `--shards N` takes the shard index from
@@ -161,7 +161,7 @@ pub fn checked_options(
 
 /// Renderers for a dataset run on `jobs` worker threads (0 = one per core): one device per
 /// worker, at most [`MAX_RENDERERS`], so workers render side by side instead of waiting for one
-/// device (README "Benchmarks"); none when no views are asked for.
+/// device (docs/benchmarks.md "Benchmarks"); none when no views are asked for.
 pub fn renderers_for(args: &ViewArgs, jobs: usize) -> anyhow::Result<Vec<Renderer>> {
     let workers = if jobs == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())

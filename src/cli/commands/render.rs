@@ -1,5 +1,5 @@
 //! `blockworld render SCENE.json -o DIR`: the four corner views of a scene and their ground
-//! truth (README "Rendering"), written with [`blockworld::output::write_rendered_views`].
+//! truth (docs/rendering.md "Rendering"), written with [`blockworld::output::write_rendered_views`].
 
 use crate::cli::progress::with_progress;
 use crate::cli::view_args::ViewArgs;
@@ -12,10 +12,10 @@ use std::path::{Path, PathBuf};
 /// Options of `blockworld render`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The scene file (JSON, see README "Scene files").
+    /// The scene file (JSON, see docs/formats.md "Scene files").
     pub scene: PathBuf,
     /// Output directory (created if missing).
-    #[arg(short, long)]
+    #[arg(short, long = "output", alias = "out", value_name = "OUTPUT")]
     pub out: PathBuf,
     #[command(flatten)]
     pub view: ViewArgs,

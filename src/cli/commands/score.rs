@@ -1,5 +1,5 @@
 //! `blockworld score TRUTH.json RECON.json [--json]`: the volume IoU, block matching, layer
-//! count and verdict of a reconstruction against its truth (README "Scoring and the accuracy suite").
+//! count and verdict of a reconstruction against its truth (docs/accuracy.md "Scoring and the accuracy suite").
 
 use anyhow::Context;
 use blockworld::export::Truncation;

@@ -1,4 +1,4 @@
-//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (README "Settling and datasets").
+//! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (docs/datasets.md "Settling").
 
 use anyhow::{bail, Context};
 use blockworld::physics::{settle, SettleParams};
@@ -48,7 +48,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     if !r.stable {
         // A drifted scene that no command could read back (a block slid off the floor or into
-        // another) is not written (README "Settling and datasets").
+        // another) is not written (docs/datasets.md "Settling").
         settled
             .scene
             .validate(&args.output.display().to_string())

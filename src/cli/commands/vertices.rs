@@ -27,7 +27,7 @@ pub struct Args {
     #[arg(long, default_value_t = EdgeOptions::default().threshold)]
     pub threshold: u16,
     /// Hysteresis: a smoothed magnitude above this, connected to one above `--threshold`, is
-    /// an edge too (README "Photographic look"); `--weak-threshold 80` turns it off.
+    /// an edge too (docs/rendering.md "Photographic look"); `--weak-threshold 80` turns it off.
     #[arg(long, default_value_t = EdgeOptions::default().weak_threshold)]
     pub weak_threshold: u16,
     /// Faint edges between found vertices: the smallest step across them, gray levels.

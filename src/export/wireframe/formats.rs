@@ -1,5 +1,4 @@
-//! The three formats' records, checked against each tool's own loader (README "Wireframe
-//! datasets", "Checked against the loaders"):
+//! The three formats' records, checked against each tool's own loader (docs/wireframe.md "Wireframe datasets", "Checked against the loaders"):
 //! - HAWP (`cherubicXN/hawp`, `hawp/fsl/config/paths_catalog.py` `DatasetCatalog`,
 //!   `hawp/fsl/dataset/train_dataset.py` `TrainDataset.__getitem__`,
 //!   `hawp/fsl/dataset/test_dataset.py` `TestDatasetWithAnnotations.__getitem__`): train items
@@ -18,7 +17,7 @@
 //!   writes), `categories`. The start is the left end (the smaller x; on a vertical line the
 //!   upper end, the smaller raster y), as those transforms assume.
 //!
-//! Extra keys ride along (README "Wireframe datasets"): `junction_type`, `six_bit_code` (per
+//! Extra keys ride along (docs/wireframe.md "Wireframe datasets"): `junction_type`, `six_bit_code` (per
 //! junction) and `line_kind` (per line); they describe the picture as rendered and are invalid
 //! after flip or rotation augmentation (the six-bit code of Ch. IV is tied to the picture's
 //! axes: a left-right flip swaps its left and right bits).

@@ -1,11 +1,10 @@
-//! Wireframe-learning export: the exact line drawing of a view (README "The exact line
-//! drawing") as the labels learned wireframe parsers train on — HAWP (Xue et al., "Holistically-
+//! Wireframe-learning export: the exact line drawing of a view (docs/formats.md "The exact line drawing") as the labels learned wireframe parsers train on — HAWP (Xue et al., "Holistically-
 //! Attracted Wireframe Parsing", CVPR 2020), L-CNN (Zhou et al., "End-to-End Wireframe Parsing",
 //! ICCV 2019) and LETR (Xu et al., "Line Segment Detection Using Transformers without Edges",
 //! CVPR 2021).
 //!
 //! The thesis's line drawing (Ch. IV, V) is in picture coordinates with y up and the origin at
-//! the bottom-left corner (README "Conventions"); these tools use raster coordinates, y down,
+//! the bottom-left corner (docs/formats.md "Conventions"); these tools use raster coordinates, y down,
 //! origin at the top-left corner, pixel `i` spanning `[i, i + 1)`. Both put pixel centres at
 //! `+0.5`, so the conversion is `x' = x`, `y' = H - y` exactly. Lines leaving the picture are
 //! clipped to `[0, W] x [0, H]` and their border ends marked (`junction_type` `"border"`).
@@ -13,7 +12,7 @@
 //! the CLI reads and writes the files.
 //!
 //! Each format was checked against the tool's own loader, not only its description (the
-//! files and functions are named in `formats` and in README "Wireframe datasets"): HAWP's
+//! files and functions are named in `formats` and in docs/wireframe.md "Wireframe datasets"): HAWP's
 //! `TrainDataset` / `TestDatasetWithAnnotations`, L-CNN's `dataset/wireframe.py`, LETR's
 //! `src/datasets/coco.py` and `src/datasets/transforms.py`.
 
@@ -31,7 +30,7 @@ use crate::geom::DVec2;
 use std::collections::HashMap;
 
 /// Junction coordinates are rounded to 1 / this many px (1e-4 px), so junctions that coincide
-/// share one exact coordinate (the drawing's points are written with the same rounding, README
+/// share one exact coordinate (the drawing's points are written with the same rounding, docs/formats.md
 /// "The exact line drawing"); dividing by it gives the shortest decimal in JSON.
 pub const JUNCTION_STEPS_PER_PX: f64 = 1e4;
 
@@ -169,7 +168,7 @@ pub fn wireframe_from_drawing(
     Ok(out)
 }
 
-/// README "Conventions": picture y up from the bottom edge; raster y down from the top edge.
+/// docs/formats.md "Conventions": picture y up from the bottom edge; raster y down from the top edge.
 /// Both keep pixel centres at +0.5, so the flip is exact: `y' = H - y`.
 pub fn raster_from_picture(p: DVec2, height_px: f64) -> DVec2 {
     DVec2::new(p.x, height_px - p.y)

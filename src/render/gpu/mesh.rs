@@ -142,8 +142,8 @@ fn push_floor(out: &mut Vec<Vertex>, camera: &Camera) {
     }
 }
 
-/// The floor of a picture it fills, computed instead of rasterized (README "Rendering", "The
-/// floor, computed"):
+/// The floor of a picture it fills, computed instead of rasterized (docs/rendering.md "How a
+/// view is drawn"):
 /// when the floor square of [`scene_vertices`] covers the whole picture between the near and
 /// far planes (the usual corner view), the floor's pixels are exactly those no block covers,
 /// all of one gray level, and their depth along the optical axis is a plane's, affine across
@@ -294,7 +294,7 @@ fn is_silhouette_edge(
         .is_none_or(|g| !camera.faces_eye(block.world_face_normal(g), world[faces[g][0] as usize]))
 }
 
-/// Triangles of a round part (README "Block catalog"): its inscribed prism, each side quad
+/// Triangles of a round part (docs/formats.md "Block catalog"): its inscribed prism, each side quad
 /// flat-shaded, the two rings fanned from their centres. The side is smooth, so no seam is
 /// drawn between side facets except on the silhouette generators (where the next facet turns
 /// away); the rim chords carry seams like any block edge. 64 sides keep the silhouette within
@@ -377,7 +377,7 @@ fn push_face(
 }
 
 /// How many edge-line slots the fragment shader tests for a triangle (`shaders/scene.wgsl`):
-/// the seam (README "Rendering") is the costliest part of shading a pixel, so each triangle is
+/// the seam (docs/rendering.md "Rendering") is the costliest part of shading a pixel, so each triangle is
 /// drawn with the shader variant that tests only the slots its face uses. A slot left out holds
 /// [`NO_EDGE_LINE`], which is never seam, so the pictures are those of testing all slots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

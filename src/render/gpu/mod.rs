@@ -6,14 +6,14 @@
 //! come back through ONE wait on the device ([`Gpu::draw_many`]): each frame's passes and copy
 //! into its own readback buffer are recorded into one command encoder, so the per-submission
 //! cost of lavapipe (waking its rasterizer threads, the fence, the map) is paid once per scene,
-//! not once per view (README "Benchmarks").
+//! not once per view (docs/benchmarks.md "Benchmarks").
 //!
 //! Without MSAA one pass writes the whole pixel into ONE `R32Uint` target when every block id
 //! fits 8 bits (at most 255 blocks): depth in the high 16 bits, the gray level, the id
 //! ([`PixelLayout::Word`]); larger scenes get two targets, the gray level (`R8Uint`) and depth
 //! with a 16-bit id in one word ([`PixelLayout::GrayAndTruth`]). One target instead of the
 //! three separate pictures spares lavapipe two color stores per pixel, two clears and two
-//! copies (README "Peer ratios"); the readback splits the words while it drops the row
+//! copies (docs/benchmarks.md "Peers"); the readback splits the words while it drops the row
 //! padding, so the frames are those of separate targets. With MSAA 4 the gray picture is drawn
 //! multisampled (`R8Unorm`, resolving averages) and resolved, and a second single-sampled pass
 //! draws the ground truth (`R32Uint`, as in the two-target layout), so depth and ids are never
@@ -21,7 +21,7 @@
 //!
 //! Where the floor fills the picture ([`mesh::floor_fill`]), the pass that writes depth and ids
 //! does not draw it: the target starts from the floor's gray level and id 0, and the readback
-//! writes the floor's exact depth into the pixels no block covers (README "Rendering").
+//! writes the floor's exact depth into the pixels no block covers (docs/rendering.md "Rendering").
 
 pub mod mesh;
 pub mod photo;
@@ -259,7 +259,7 @@ fn describe(info: &wgpu::AdapterInfo) -> String {
 
 /// [`Gpu::adapter_info`] of the adapter `backend` offers, without creating a device (tens of
 /// milliseconds instead of a device and its pipelines): for benchmark tables of stages that
-/// do not render, which still name the rasterizer of the machine they ran on (README
+/// do not render, which still name the rasterizer of the machine they ran on (docs/benchmarks.md
 /// "Benchmarks").
 pub fn adapter_summary(backend: Backend) -> Result<String, RenderError> {
     request_adapter(backend).map(|(adapter, _)| describe(&adapter.get_info()))

@@ -1,4 +1,4 @@
-//! The GPU half of the photographic look (README "Photographic look"): the pipelines of
+//! The GPU half of the photographic look (docs/rendering.md "Photographic look"): the pipelines of
 //! `shaders/photo.wgsl`, a key-light shadow map pass and the radiance pass (linear radiance in
 //! an `R32Float` target, read back for the sensor model of `render::photo::sensor`).
 //!

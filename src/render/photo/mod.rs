@@ -1,4 +1,4 @@
-//! The photographic look (README "Photographic look"): pictures as the thesis's CCD camera
+//! The photographic look (docs/rendering.md "Photographic look"): pictures as the thesis's CCD camera
 //! took them (Ch. VI), not line art. No ink: an edge shows only through shading, on a render
 //! mesh whose block edges carry a small bevel and whose touching blocks leave a narrow crack
 //! ([`mesh`]); a key light with a shadow map plus ambient, its direction jittered per scene;
@@ -24,14 +24,14 @@ use crate::scene::Scene;
 use image::GrayImage;
 use sensor::{RadianceImage, SensorModel};
 
-/// How the gray picture looks (README "Rendering").
+/// How the gray picture looks (docs/rendering.md "Rendering").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Look {
-    /// Flat gray faces with a dark seam on every face edge (README "Rendering"). The default.
+    /// Flat gray faces with a dark seam on every face edge (docs/rendering.md "Rendering"). The default.
     #[default]
     LineArt,
-    /// Shading, shadows and a camera sensor, no drawn ink (README "Photographic look").
+    /// Shading, shadows and a camera sensor, no drawn ink (docs/rendering.md "Photographic look").
     Photo,
     /// The photo look with its light, shadows, edges, albedos, gloss, sensor, picture size and
     /// projection drawn per scene from the scene's seed (docs/varied-look.md "What is drawn").
@@ -113,7 +113,7 @@ pub const SUPERSAMPLING: u32 = 1;
 
 /// The parts of a photo view besides its radiance that [`Renderer::render_photo_parts`]
 /// runs, so that a benchmark can time the look part by part (`bench render --photo-parts`,
-/// README "Photographic look"); the shadows are left out by the setup
+/// docs/rendering.md "Photographic look"); the shadows are left out by the setup
 /// ([`PhotoSetup::without_shadows`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PhotoParts {

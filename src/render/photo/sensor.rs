@@ -1,4 +1,4 @@
-//! The camera sensor of the photographic look (README "Photographic look"): what the thesis's
+//! The camera sensor of the photographic look (docs/rendering.md "Photographic look"): what the thesis's
 //! COHU 4810 CCD and EPIX digitizer did to the light before the Sobel operator (Ch. VI): optical
 //! blur (a Gaussian point spread function), vignetting, shot and read noise, gamma, 8-bit
 //! quantization, and the 2 x 2 averaging that took 512 x 480 down to 256 x 240 and 128 x 120.
@@ -36,7 +36,7 @@ impl RadianceImage {
     }
 }
 
-/// The sensor's parameters (README "Photographic look"); the defaults give a clean but real
+/// The sensor's parameters (docs/rendering.md "Photographic look"); the defaults give a clean but real
 /// camera: a PSF of 0.7 px, 20,000 electrons at full well, 12 electrons of read noise, gamma
 /// 1 (the linear setting of machine-vision CCD cameras; 2.2 is the video setting) and a 15%
 /// corner falloff.

@@ -1,4 +1,4 @@
-//! Fuzz target for the camera reader (`camera_<view>.json`, README "Rendering"): arbitrary bytes
+//! Fuzz target for the camera reader (`camera_<view>.json`, docs/rendering.md "Rendering"): arbitrary bytes
 //! either fail to read as a camera or read as one that is written without `null` and reads back
 //! to the same camera. The property lives in `camera_check.rs`, which `tests/mutants.rs` runs on
 //! seeded mutants and `tests/fuzz_corpus.rs` replays over the committed corpus

@@ -1,4 +1,4 @@
-//! Fuzz target for the line-drawing reader (README "The exact line drawing"): arbitrary bytes
+//! Fuzz target for the line-drawing reader (docs/formats.md "The exact line drawing"): arbitrary bytes
 //! either fail to read or read back to the same drawing, with no `null` written. The property
 //! lives in `drawing_check.rs`, which `tests/mutants.rs` replays on stable Rust over seeded
 //! mutants of `tests/fixtures/vision/single_cube/lines_*.json`.

@@ -5,7 +5,7 @@
 //! (`random_drawings_never_panic_and_found_labellings_check`) runs seeded random drawings through
 //! the same library calls, so CI needs no nightly compiler.
 //!
-//! Run (README "Exit codes and progress output", fuzzing): `cargo +nightly fuzz run --fuzz-dir
+//! Run (docs/cli.md "Exit codes and progress output", fuzzing): `cargo +nightly fuzz run --fuzz-dir
 //! tests/fuzz label tests/fuzz/corpus/label tests/fuzz/seeds/label -- -max_total_time=300`.
 #![no_main]
 

@@ -1,4 +1,4 @@
-// The property of the `label` fuzz target (Kanade's labeller, README "Kanade's model"), shared
+// The property of the `label` fuzz target (Kanade's labeller, docs/kanade.md "Kanade's model"), shared
 // with `tests/fuzz_corpus.rs` (which replays the committed corpus `tests/fuzz/seeds/label/` on
 // stable Rust) through `include!`: arbitrary bytes become a line drawing — points from byte
 // pairs (some far out, some repeated, some NaN), lines from index pairs that may name missing

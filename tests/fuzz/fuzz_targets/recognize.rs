@@ -1,4 +1,4 @@
-//! Fuzz target for the recognizer's input (README "Recognizer"): arbitrary bytes become line
+//! Fuzz target for the recognizer's input (docs/recognizer.md "Recognizer"): arbitrary bytes become line
 //! drawings with their cameras and go through `recognize`; the property lives in
 //! `recognize_check.rs`, which `tests/recognize_inputs.rs` also runs on seeded random bytes.
 //!

@@ -2,7 +2,7 @@
 // runs it on seeded random bytes on stable Rust): arbitrary bytes become one to four line
 // drawings (points from byte pairs, some far out, repeated or NaN; lines from index pairs that
 // may name missing points or join a point to itself), each paired with a real corner camera or
-// a degenerate one, and go through the recognizer (README "Recognizer"). It must answer `ok`,
+// a degenerate one, and go through the recognizer (docs/recognizer.md "Recognizer"). It must answer `ok`,
 // `unsupported` or a typed error; nothing may panic, and an `ok` answer must hold finite blocks.
 
 /// The views the `recognize` target makes of `data`: one per 64-byte chunk (at most four);

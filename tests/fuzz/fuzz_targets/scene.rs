@@ -1,4 +1,4 @@
-//! Fuzz target for the scene and reconstruction readers (README "Scene files"): arbitrary
+//! Fuzz target for the scene and reconstruction readers (docs/formats.md "Scene files"): arbitrary
 //! bytes either fail with an error naming the source or read back to the same scene. The
 //! property lives in `scene_check.rs`, which `tests/mutants.rs` replays on stable Rust over the
 //! committed corpus `tests/fuzz/seeds/scene/`.

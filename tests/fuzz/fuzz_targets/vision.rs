@@ -4,7 +4,7 @@
 //! `tests/vision.rs` (`random_small_pictures_never_panic`) runs a few hundred seeded random
 //! pictures through the same calls, so CI needs no nightly compiler.
 //!
-//! Run (README "Exit codes and progress output", fuzzing): `cargo +nightly fuzz run --fuzz-dir
+//! Run (docs/cli.md "Exit codes and progress output", fuzzing): `cargo +nightly fuzz run --fuzz-dir
 //! tests/fuzz vision tests/fuzz/corpus/vision tests/fuzz/seeds/vision -- -max_total_time=300
 //! -max_len=20000`.
 #![no_main]

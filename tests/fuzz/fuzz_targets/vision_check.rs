@@ -1,8 +1,7 @@
 // The property of the `vision` fuzz target, shared with `tests/fuzz_corpus.rs` (which replays
 // the committed corpus `tests/fuzz/seeds/vision/` on stable Rust) through `include!`: arbitrary
 // bytes are decoded as an image (PNG and the other formats the `image` crate guesses) and, when
-// they decode, run through Sobel + smoothing + threshold, lines and vertices (README "Vision
-// front end"). Nothing may panic; every vertex found has its six-bit code.
+// they decode, run through Sobel + smoothing + threshold, lines and vertices (docs/vision.md "Vision front end"). Nothing may panic; every vertex found has its six-bit code.
 
 /// Checks one input; panics (a finding) when the property breaks.
 pub fn check_vision_bytes(data: &[u8]) {

@@ -1,13 +1,12 @@
 //! `blockworld bench accuracy`: renders the accuracy suite (`scenes/bench/`) with the view
 //! options, runs the vision front end (or, with `--from-truth`, takes the exact drawings) and
 //! the modified Kanade recognizer, scores every scene and prints the per-family table with the
-//! confidently wrong scenes by name (README "Recognizer"; `blockworld::pipeline`).
+//! confidently wrong scenes by name (docs/recognizer.md "Recognizer"; `blockworld::pipeline`).
 //! `--recognizer DIR` scores someone else's reconstruction files `<scene-id>.json` instead (a
 //! missing file counts as `failed`). `--make-reference DIR` writes the constructed reference
 //! set (`score::make_reference_reconstructions`) that `tests/scorer_reference.rs` scores.
 //! `--family F --count N --seed S` draws the suite with the generator instead of reading it: the
-//! scenes `generate --family F --count N --seed S` writes, settled in memory (README "Scoring and
-//! the accuracy suite"). With `--look photo_varied` every scene is rendered in its own draw of
+//! scenes `generate --family F --count N --seed S` writes, settled in memory (docs/accuracy.md "Scoring and the accuracy suite"). With `--look photo_varied` every scene is rendered in its own draw of
 //! the varied look (its seed the scene's: `dataset::scene_seed(--seed, index)`, the seed
 //! `generate` gives it) and a second table counts the results per factor bin
 //! (docs/varied-look.md "Factors and bins").

@@ -1,5 +1,5 @@
 //! `blockworld bench export-dataset DATASET`: images/s of the wireframe export in each format
-//! (README "Wireframe datasets"), each into a fresh temporary folder that is removed afterwards.
+//! (docs/wireframe.md "Wireframe datasets"), each into a fresh temporary folder that is removed afterwards.
 
 use super::machine::banner;
 use crate::cli::commands::export_dataset::{export, Args as ExportArgs, FormatArg, DEFAULT_JOBS};

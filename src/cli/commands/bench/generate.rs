@@ -1,7 +1,7 @@
 //! `blockworld bench generate`: scenes/s of dataset generation (settle, render four views,
-//! write) and the time split between the stages (README "Settling and datasets"; target >= 40 scenes/s
+//! write) and the time split between the stages (docs/datasets.md "Settling"; target >= 40 scenes/s
 //! for 100 scenes of up to 12 blocks at 512 x 480 on 2 cores), for each look asked (line art and
-//! the photographic look by default, side by side with the photo / line art ratio: README
+//! the photographic look by default, side by side with the photo / line art ratio: docs/rendering.md
 //! "Photographic look").
 
 use crate::cli::commands::generate::{checked_options, renderers_for};

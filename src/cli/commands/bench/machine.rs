@@ -1,4 +1,4 @@
-//! What every benchmark prints first (README "Benchmarks"): these machines differ and are
+//! What every benchmark prints first (docs/benchmarks.md "Benchmarks"): these machines differ and are
 //! shared, so a figure means nothing without the CPU model, its cores, the load while it ran
 //! and the lavapipe version that rendered.
 

@@ -1,13 +1,13 @@
 //! `blockworld bench peers --python VENV/bin/python --peers-dir DIR [--rounds 5]`: blockworld's
 //! generate, render and vision beside the peers that do the same work, interleaved over rounds
-//! in one run, and the ratio of the medians (README "Benchmarks": only ratios measured in one run
+//! in one run, and the ratio of the medians (docs/benchmarks.md "Benchmarks": only ratios measured in one run
 //! on one machine compare; absolute figures on shared machines do not).
 //!
 //! The peers are Python programs outside blockworld: a Kubric-style dataset pipeline (PyBullet,
 //! TinyRenderer, Pillow) and OpenCV's vision path, each printing one line `RESULT {json}`, from
 //! `--peers-dir`; and Blender 4.2 Workbench through `bench/peers/blender_workbench.py`, which is
 //! compiled into the binary and written to a scratch folder. Settling is not compared: the peer
-//! folder has no PyBullet settle script (`bench settle`-style figures stay in README
+//! folder has no PyBullet settle script (`bench settle`-style figures stay in docs/benchmarks.md
 //! "Benchmarks").
 
 use super::machine::banner;
@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-/// The Blender Workbench peer script (our own code, README "Benchmarks").
+/// The Blender Workbench peer script (our own code, docs/benchmarks.md "Benchmarks").
 const BLENDER_SCRIPT: &str = include_str!("../../../../bench/peers/blender_workbench.py");
 
 /// The peer scripts `--peers-dir` must hold.
@@ -34,10 +34,10 @@ const PEER_SCRIPTS: [&str; 3] = ["kubric_style_bench.py", "opencv_bench.py", "la
 const PEER_MODULES: &str = "pybullet, PIL, numpy, cv2, bpy";
 
 /// How to make a Python environment that runs every peer.
-const INSTALL_HINT: &str = "python3 -m venv V && V/bin/pip install pybullet pillow numpy \
-                            opencv-python-headless bpy==4.2.23, then pass --python V/bin/python";
+const INSTALL_HINT: &str = "run `make peers` (a venv in target/peers-venv from \
+                            bench/peers/requirements.txt), or pass --python with such a venv's python";
 
-/// Blocks of the render comparison (the issue's "10 blocks" row).
+/// Blocks of the render comparison (the 10-block row of `bench render`).
 const RENDER_BLOCKS: usize = 10;
 
 /// Scenes whose views the vision comparison reads (four views each).
@@ -53,11 +53,12 @@ const VISION_WARMUP: usize = 3;
 /// Options of `blockworld bench peers`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Python with pybullet, pillow, numpy, opencv-python-headless and bpy==4.2.23.
-    #[arg(long)]
+    /// Python with the packages of bench/peers/requirements.txt (`make peers` builds this
+    /// one).
+    #[arg(long, default_value = "target/peers-venv/bin/python")]
     pub python: PathBuf,
     /// Folder of the peer scripts (kubric_style_bench.py, opencv_bench.py, layout.py).
-    #[arg(long)]
+    #[arg(long, default_value = "bench/peers")]
     pub peers_dir: PathBuf,
     /// Rounds; each runs every measurement once, blockworld and peer one after the other.
     #[arg(long, default_value_t = 5)]
@@ -74,8 +75,7 @@ pub struct Args {
     /// Seconds of untimed renders before each side's timed renders (blockworld's and
     /// Blender's alike, at least their fixed warm-up counts), so both are timed in their
     /// steady state: one process rendering the 10-block view without pause read 1.01, 0.91
-    /// and 0.86 ms per view in its first three seconds and 0.83-0.87 after (README "Peer
-    /// ratios").
+    /// and 0.86 ms per view in its first three seconds and 0.83-0.87 after (docs/benchmarks.md "Peers").
     #[arg(long, default_value_t = 2.0)]
     pub render_warmup_s: f64,
     /// blockworld's view options (defaults: the four corner views, 512 x 480, orthographic).
@@ -496,7 +496,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("no such interpreter") && e.contains("bpy==4.2.23"),
+            e.contains("no such interpreter") && e.contains("make peers"),
             "{e}"
         );
         std::fs::write(&python, "").unwrap();
@@ -514,7 +514,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("No module named 'bpy'") && e.contains("pip install"),
+            e.contains("No module named 'bpy'") && e.contains("requirements.txt"),
             "{e}"
         );
     }

@@ -1,9 +1,9 @@
 //! `blockworld bench render`: ms per view for scenes of 1, 10 and 50 blocks at 512 x 480
-//! (README "Rendering" target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
+//! (docs/rendering.md "Rendering" target: at most 2 ms per view for 10 blocks on a 2-core machine with lavapipe).
 //! Columns: render + readback (pixels only) one view per submission, the same with the four
 //! corner views in one submission (`Renderer::render_views_pixels`, as `generate` renders; time
 //! per view), the one-view render plus the exact line drawing (`Renderer::render`), render +
-//! readback + PNG encoding of the three images, and the photo look's render + readback (README
+//! readback + PNG encoding of the three images, and the photo look's render + readback (docs/rendering.md
 //! "Photographic look"; a quarter of the iterations) with its ratio to line art's.
 //! `--photo-only` times the photo look alone (after four untimed views), so a profiler such as
 //! callgrind counts nothing else; `--photo-parts` times the photo look part by part (its mesh,
@@ -36,7 +36,7 @@ pub struct Args {
     /// (for profiling it alone, e.g. `valgrind --tool=callgrind`).
     #[arg(long, conflicts_with = "photo_parts")]
     pub photo_only: bool,
-    /// Time the photo look part by part against line art (README "Photographic look"): the
+    /// Time the photo look part by part against line art (docs/rendering.md "Photographic look"): the
     /// render mesh alone (CPU), the radiance without shadows or sensor, that plus the
     /// ground-truth draw, plus the shadows, and the whole view; a quarter of `--iterations`
     /// each.
@@ -259,7 +259,7 @@ impl Timing {
 }
 
 /// User + system CPU time of this process so far, from `/proc/self/stat` (Linux; clock ticks of
-/// 10 ms, the kernel's USER_HZ = 100 on this machine kind).
+/// 10 ms, the kernel's USER_HZ = 100 on Linux).
 fn process_cpu_time() -> Option<Duration> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
     // Fields after the command name in parentheses; utime and stime are fields 14 and 15.

@@ -1,5 +1,4 @@
-//! `blockworld bench settle`: the cost and the accuracy of settling (README "Settling and
-//! datasets") on the peer benchmark's 12-block stack (README "Benchmarks": the same twelve
+//! `blockworld bench settle`: the cost and the accuracy of settling (docs/datasets.md "Settling") on the peer benchmark's 12-block stack (docs/benchmarks.md "Benchmarks": the same twelve
 //! cuboids a PyBullet pipeline settles) and on cube-like stacks of b15: ms (fastest of
 //! `--repeat`), simulation steps, simulated time, and how far the settled blocks end from their
 //! intended poses (mm, degrees), with the verdict.
@@ -30,7 +29,7 @@ pub struct Args {
     pub pybullet_script: std::path::PathBuf,
 }
 
-/// The peer benchmark's 12 cuboids (README "Benchmarks"): a two-layer stack of two b30 and two
+/// The peer benchmark's 12 cuboids (docs/benchmarks.md "Benchmarks"): a two-layer stack of two b30 and two
 /// b15 bridged by a b30 and a b15, two two-high columns of b7_5 and a two-high b15 tower. The
 /// peer's table is z-up (x, y, z); here +y is up, so its (x, y, z) becomes (x, z, -y): the same
 /// stack turned, not mirrored.

@@ -1,4 +1,4 @@
-//! `blockworld bench vision`: the vision front end (README "Vision front end") measured against exact ground
+//! `blockworld bench vision`: the vision front end (docs/vision.md "Vision front end") measured against exact ground
 //! truth. Renders the accuracy-suite scenes (`scenes/bench/*.json`, else `scenes/*.json`) in the
 //! four corner views with the real renderer (or reads already rendered views with `--from`),
 //! runs Sobel + smoothing + threshold, lines and vertices on one core, matches the vertices to
@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long, conflicts_with = "suite")]
     pub from: Option<PathBuf>,
     /// Render with a perspective camera of this vertical field of view, degrees (default:
-    /// orthographic, the target setting of README "Vision front end").
+    /// orthographic, the target setting of docs/vision.md "Vision front end").
     #[arg(long)]
     pub perspective: Option<f64>,
     /// Matching distance, px.
@@ -45,13 +45,13 @@ pub struct Args {
     #[arg(long, default_value_t = 3)]
     pub repeat: u32,
     /// Instead of the suite: the front end's time per megapixel on pictures as dense in edges
-    /// as it accepts, from 512 px up to --max-side (README "Vision front end").
+    /// as it accepts, from 512 px up to --max-side (docs/vision.md "Vision front end").
     #[arg(long)]
     pub scaling: bool,
     /// Largest side of --scaling, px.
     #[arg(long, default_value_t = 4096)]
     pub max_side: u32,
-    /// Picture look of the renders: lineart (default) or photo (README "Photographic look").
+    /// Picture look of the renders: lineart (default) or photo (docs/rendering.md "Photographic look").
     #[arg(long, default_value = "lineart")]
     pub look: String,
     /// Average the renders 2x2 once (2) or twice (4), as the thesis did.
@@ -205,7 +205,7 @@ fn timed_steps(
 
 /// Runs the front end on `gray` `repeat` times (at least once): the last detection and, per
 /// step, the fastest of the stage's own counters, ms. The statistic of `bench vision`, of `bench
-/// peers` and of the OpenCV peer script (README "Peer ratios").
+/// peers` and of the OpenCV peer script (docs/benchmarks.md "Peers").
 pub(super) fn fastest_steps(
     gray: &GrayImage,
     dirs: &[(EdgeAxis, EdgeDirection)],

@@ -1,5 +1,5 @@
 //! `blockworld bench vision --scaling`: the vision front end's cost as the picture grows
-//! (README "Vision front end", bounded cost on hostile input). A picture as dense in edges as the
+//! (docs/vision.md "Vision front end", bounded cost on hostile input). A picture as dense in edges as the
 //! front end accepts (just under [`MAX_EDGE_PX_PER_SIDE_PX`] x (w + h) edge pixels) is made at
 //! each size, and the time per megapixel is printed: near linear in pixels means that figure
 //! stays flat as the side doubles. A noise picture of the same size is refused by the edge cap,

@@ -1,4 +1,4 @@
-//! The render mesh and light of the photographic look (README "Photographic look"): every
+//! The render mesh and light of the photographic look (docs/rendering.md "Photographic look"): every
 //! block's catalog polyhedron with its faces pulled in by half a crack ([`CRACK_MM`]) and its
 //! edges and corners cut by a small bevel ([`BEVEL_MM`]), so edges catch the light as the
 //! thesis's wooden blocks do (Figure 6.3) and touching blocks leave a real narrow gap. The
@@ -163,7 +163,7 @@ pub fn photo_vertices(scene: &Scene, camera: &Camera, albedos: &[f64]) -> Vec<Ph
 /// Each pass gets only the triangles it does not cull: the radiance pass those turned towards
 /// the eye, the shadow pass (which culls the faces turned towards the light) those turned away
 /// from the light. A triangle neither pass draws is left out, so the GPU never transforms it;
-/// the pictures are the same (README "Photographic look").
+/// the pictures are the same (docs/rendering.md "Photographic look").
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhotoMesh {
     /// Triangles, in the order of their ranges: `shadowed`, `behind`, then `unshadowed`, whose
@@ -183,7 +183,7 @@ pub struct PhotoMesh {
 impl PhotoMesh {
     /// The same radiance triangles, all drawn without the shadow test, and no shadow casters:
     /// the photo view with its shadows taken out, for measuring what they cost
-    /// (`Renderer::render_photo_parts`, README "Photographic look"). The whole faces stay
+    /// (`Renderer::render_photo_parts`, docs/rendering.md "Photographic look"). The whole faces stay
     /// behind the parts of them that had the shadow test, so every pixel shows the surface it
     /// showed, lit as if nothing cast a shadow.
     pub fn without_shadows(&self) -> PhotoMesh {
