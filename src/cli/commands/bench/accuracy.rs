@@ -149,16 +149,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "looks": looks.iter().map(|d| serde_json::json!({"seed": d.seed, "bins": d.bins})).collect::<Vec<_>>(),
         "undecided": undecided.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
     });
-    if let Some(parent) = args.json_out.parent() {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("creating {}", parent.display()))?;
-    }
-    blockworld::io::write_atomic(
-        &args.json_out,
-        blockworld::io::pretty_json(&report).as_bytes(),
-    )
-    .with_context(|| format!("writing {}", args.json_out.display()))?;
-    println!("per-scene results: {}", args.json_out.display());
+    write_report(&args.json_out, &report)?;
     if let Some(golden) = &args.golden {
         gate(golden, &results)?;
     }
@@ -413,4 +404,17 @@ fn factor_table(results: &[SceneResult], looks: &[LookDraw]) -> String {
         }
     }
     t
+}
+
+/// Writes a bench's per-scene results as pretty JSON to `path` (its folder made first) and
+/// names the file on stdout; `bench accuracy` and `bench accuracy --pictures` share it.
+pub(crate) fn write_report(path: &Path, report: &serde_json::Value) -> anyhow::Result<()> {
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("creating {}", parent.display()))?;
+    }
+    blockworld::io::write_atomic(path, blockworld::io::pretty_json(report).as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    println!("per-scene results: {}", path.display());
+    Ok(())
 }

@@ -267,16 +267,7 @@ fn write_report(
             "scenes": s.results,
         })).collect::<Vec<_>>(),
     });
-    if let Some(parent) = args.json_out.parent() {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("creating {}", parent.display()))?;
-    }
-    blockworld::io::write_atomic(
-        &args.json_out,
-        blockworld::io::pretty_json(&report).as_bytes(),
-    )
-    .with_context(|| format!("writing {}", args.json_out.display()))?;
-    println!("per-scene results: {}", args.json_out.display());
+    super::accuracy::write_report(&args.json_out, &report)?;
     Ok(())
 }
 
