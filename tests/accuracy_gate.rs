@@ -129,6 +129,18 @@ impl Suite {
     }
 }
 
+/// The ids of the first `n` scenes the golden file holds as exact: the scenes a worse
+/// recognizer or look is run on to prove a gate can fail.
+fn first_exact_ids(golden: &Golden, n: usize) -> Vec<&str> {
+    golden
+        .scenes
+        .iter()
+        .filter(|g| g.verdict == Verdict::Exact)
+        .map(|g| g.id.as_str())
+        .take(n)
+        .collect()
+}
+
 fn golden(suite: &Suite) -> Golden {
     let path = common::root().join(suite.golden);
     let text = std::fs::read_to_string(&path)
@@ -170,13 +182,7 @@ fn the_varied_gate_fails_on_a_worse_look() {
         return;
     };
     let golden = golden(&VARIED);
-    let exact: Vec<&str> = golden
-        .scenes
-        .iter()
-        .filter(|g| g.verdict == Verdict::Exact)
-        .map(|g| g.id.as_str())
-        .take(3)
-        .collect();
+    let exact = first_exact_ids(&golden, 3);
     assert!(
         !exact.is_empty(),
         "golden holds no exact scene to prove the gate"
@@ -309,13 +315,7 @@ fn the_gate_fails_on_a_worse_recognizer() {
         return;
     };
     let golden = golden(&BASIC);
-    let exact: Vec<&str> = golden
-        .scenes
-        .iter()
-        .filter(|g| g.verdict == Verdict::Exact)
-        .map(|g| g.id.as_str())
-        .take(3)
-        .collect();
+    let exact = first_exact_ids(&golden, 3);
     assert_eq!(
         exact.len(),
         3,
