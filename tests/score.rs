@@ -18,6 +18,16 @@ const TRUTH: &str = r#"{"name": "two_layer", "expect": {"supported": true},
              {"type": "b15", "center": [-7.5, 22.5, 0]},
              {"type": "b15", "center": [7.5, 22.5, 0]}]}"#;
 
+/// Runs `blockworld score` of the reconstruction `recon` (scene-file text) against [`TRUTH`]
+/// with `extra` arguments; both files live in `dir`.
+fn score_against_truth(dir: &Path, recon: &str, extra: &[&str]) -> std::process::Output {
+    let truth = write(dir, "truth.json", TRUTH);
+    let recon = write(dir, "recon.json", recon);
+    let mut args = vec!["score", truth.as_str(), recon.as_str()];
+    args.extend_from_slice(extra);
+    blockworld(&args)
+}
+
 #[test]
 fn identical_scene_scores_exact_in_json() {
     let dir = tempfile::tempdir().unwrap();
@@ -38,18 +48,16 @@ fn identical_scene_scores_exact_in_json() {
 #[test]
 fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
     let dir = tempfile::tempdir().unwrap();
-    let truth = write(dir.path(), "truth.json", TRUTH);
     // The base read twice, overlapping itself: same solid, one extra block.
-    let recon = write(
+    let out = score_against_truth(
         dir.path(),
-        "recon.json",
         r#"{"name": "r", "status": "ok",
   "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
              {"type": "b30", "center": [0.5, 7.5, 0]},
              {"type": "b15", "center": [-7.5, 22.5, 0]},
              {"type": "b15", "center": [7.5, 22.5, 0]}]}"#,
+        &[],
     );
-    let out = blockworld(&["score", &truth, &recon]);
     assert!(
         out.status.success(),
         "{}",
@@ -62,6 +70,40 @@ fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
         table.contains("layers                 2 truth, 2 recon: right"),
         "{table}"
     );
+    // The second b30 has IoU 0.97 with the truth's base but the first took it: one extra block.
+    assert!(
+        table.contains("3D IoU ≥ 0.5 P/R/F1    0.750 / 1.000 / 0.857  (3 of 3 truth, 4 recon"),
+        "{table}"
+    );
+}
+
+#[test]
+fn a_missing_block_lowers_the_detection_recall_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = score_against_truth(
+        dir.path(),
+        r#"{"name": "r", "status": "ok",
+  "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
+             {"type": "b15", "center": [-7.5, 22.5, 0]}]}"#,
+        &["--json"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let d = &v["detection"];
+    assert_eq!(
+        (d["matched"].as_u64(), d["min_iou"].as_f64()),
+        (Some(2), Some(0.5))
+    );
+    assert_eq!(d["precision"].as_f64(), Some(1.0));
+    assert!(
+        (d["recall"].as_f64().unwrap() - 2.0 / 3.0).abs() < 1e-12,
+        "{d}"
+    );
+    assert!((d["f1"].as_f64().unwrap() - 0.8).abs() < 1e-12, "{d}");
 }
 
 #[test]
@@ -132,9 +174,14 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     assert!(
         stdout.contains("family")
             && stdout.contains("mean IoU")
-            && stdout.contains("confidently wrong"),
+            && stdout.contains("confidently wrong")
+            && stdout.contains("blocks P / R / F1 at 3D IoU ≥ 0.5"),
         "{stdout}"
     );
+    // The reference set misses blocks in one l_shape scene and declines the ten failure cases:
+    // every block it gives is right (precision 1), recall falls.
+    let all = stdout.lines().find(|l| l.starts_with("| all |")).unwrap();
+    assert!(all.contains("| 1.000 / 0.897 / 0.946 |"), "{all}");
     assert!(stdout.contains("gate: ok"), "{stdout}");
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json_out).unwrap()).unwrap();

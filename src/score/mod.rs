@@ -10,13 +10,15 @@
 //!   union of its blocks, exact for convex catalog blocks in any pose (parry3d convex hull of the
 //!   clipped edges, inclusion–exclusion for overlapping blocks; see `polytope` and `volume`);
 //! * [`score_reconstruction`]: the [`Score`]: IoU, per-block matching (precision, recall, F1,
-//!   centre error), layer count, and the [`Verdict`];
+//!   centre error), blocks detected at 3D IoU ≥ 0.5 ([`detect_blocks`]: precision, recall, F1),
+//!   layer count, and the [`Verdict`];
 //! * the accuracy suite ([`score_suite_scene`], [`summarize_by_family`]) and its golden gate
 //!   ([`check_gate`]), with known failure cases that must stay flagged;
 //! * [`make_reference_reconstructions`]: the constructed reconstruction set the gate is proven on.
 //!
 //! Plain data in, plain data out; no file I/O (the `cli` reads and writes the files).
 
+mod detection;
 mod matching;
 mod polytope;
 mod reference;
@@ -27,6 +29,7 @@ mod volume;
 #[cfg(test)]
 mod tests;
 
+pub use detection::{block_iou, detect_blocks, match_blocks_by_iou, Detection, DETECTION_MIN_IOU};
 pub use matching::{count_layers, match_blocks, symmetry_rotations, turn_error_deg, BlockMatch};
 pub use reference::{
     make_reference_reconstruction, make_reference_reconstructions, READING_ERROR_DEG,

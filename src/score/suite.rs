@@ -2,6 +2,7 @@
 //! enforces (docs/accuracy.md "Scoring and the accuracy suite"; a scene marked unsupported that starts
 //! passing is itself a failure until someone changes its mark on purpose).
 
+use super::detection::{Detection, DETECTION_MIN_IOU};
 use super::verdict::{score_reconstruction_with_options, ScoreOptions, Verdict};
 use crate::scene::{Reconstruction, Scene};
 use serde::{Deserialize, Serialize};
@@ -21,6 +22,15 @@ pub struct SceneResult {
     pub iou: f64,
     /// Block F1.
     pub f1: f64,
+    /// Blocks in the truth.
+    #[serde(default)]
+    pub truth_blocks: usize,
+    /// Blocks in the reconstruction (0 when there is none).
+    #[serde(default)]
+    pub recon_blocks: usize,
+    /// Blocks matched one to one at 3D IoU ≥ [`DETECTION_MIN_IOU`] (`super::detection`).
+    #[serde(default)]
+    pub detected_blocks: usize,
     /// Mean centre error of matched blocks, mm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mean_center_error_mm: Option<f64>,
@@ -80,16 +90,18 @@ pub fn score_suite_scene(
     let scored = recon
         .map_err(|e| e.0)
         .and_then(|r| score_reconstruction_with_options(truth, r, opts).map_err(|e| e.to_string()));
-    let (verdict, iou, f1, mean_center_error_mm, layers_right, note) = match scored {
+    let nothing = Detection::from_counts(DETECTION_MIN_IOU, 0, truth.blocks.len(), 0);
+    let (verdict, iou, f1, mean_center_error_mm, layers_right, detection, note) = match scored {
         Ok(s) => (
             s.verdict,
             s.iou,
             s.f1,
             s.mean_center_error_mm,
             s.layers_right,
+            s.detection,
             None,
         ),
-        Err(note) => (Verdict::Failed, 0.0, 0.0, None, false, Some(note)),
+        Err(note) => (Verdict::Failed, 0.0, 0.0, None, false, nothing, Some(note)),
     };
     let recognized = verdict.is_recognized();
     SceneResult {
@@ -99,6 +111,9 @@ pub fn score_suite_scene(
         verdict,
         iou,
         f1,
+        truth_blocks: detection.truth_blocks,
+        recon_blocks: detection.recon_blocks,
+        detected_blocks: detection.matched,
         mean_center_error_mm,
         layers_right,
         flagged: !supported && !recognized,
@@ -121,6 +136,10 @@ pub struct FamilySummary {
     pub exact_share: f64,
     /// Mean block F1.
     pub mean_f1: f64,
+    /// Blocks detected at 3D IoU ≥ [`DETECTION_MIN_IOU`], summed over the scenes (precision,
+    /// recall and F1 over all their blocks).
+    #[serde(default = "no_detection")]
+    pub detection: Detection,
     /// Scenes marked unsupported (known failure cases).
     pub expected_failures: usize,
     /// Of those, how many came out unsupported or failed.
@@ -133,6 +152,10 @@ pub struct FamilySummary {
     /// Scenes declined (`unsupported`).
     #[serde(default)]
     pub declined: usize,
+}
+
+fn no_detection() -> Detection {
+    Detection::from_counts(DETECTION_MIN_IOU, 0, 0, 0)
 }
 
 /// Per-family summaries, sorted by family, plus an `"all"` row last.
@@ -157,6 +180,12 @@ fn summarize<'a>(family: &str, rs: impl Iterator<Item = &'a SceneResult>) -> Fam
         mean_iou: rs.iter().map(|r| r.iou).sum::<f64>() / n,
         exact_share: rs.iter().filter(|r| r.verdict == Verdict::Exact).count() as f64 / n,
         mean_f1: rs.iter().map(|r| r.f1).sum::<f64>() / n,
+        detection: Detection::from_counts(
+            DETECTION_MIN_IOU,
+            rs.iter().map(|r| r.detected_blocks).sum(),
+            rs.iter().map(|r| r.truth_blocks).sum(),
+            rs.iter().map(|r| r.recon_blocks).sum(),
+        ),
         expected_failures: rs.iter().filter(|r| !r.supported).count(),
         flagged: rs.iter().filter(|r| r.flagged).count(),
         unexpected_passes: rs.iter().filter(|r| r.unexpected_pass).count(),

@@ -1,6 +1,7 @@
 //! The score of one reconstruction against its truth: volume IoU, block matching, layers and
 //! the verdict.
 
+use super::detection::{detect_blocks, Detection, DETECTION_MIN_IOU};
 use super::matching::{count_layers, match_blocks};
 use super::volume::{volume_overlap, VolumeTolerances};
 use super::ScoreError;
@@ -107,6 +108,9 @@ pub struct Score {
     pub f1: f64,
     /// Mean centre distance of matched blocks, mm; `None` when nothing matched.
     pub mean_center_error_mm: Option<f64>,
+    /// Blocks matched one to one at 3D IoU ≥ [`DETECTION_MIN_IOU`], with precision, recall
+    /// and F1 (`super::detection`).
+    pub detection: Detection,
     /// Layers in the truth (distinct bottom heights).
     pub truth_layers: usize,
     /// Layers in the reconstruction.
@@ -165,6 +169,12 @@ pub fn score_reconstruction_with_options(
     };
     let mean_center_error_mm =
         (nm > 0).then(|| matches.iter().map(|m| m.center_error_mm).sum::<f64>() / nm as f64);
+    let detection = detect_blocks(
+        &truth.blocks,
+        &recon.blocks,
+        DETECTION_MIN_IOU,
+        &opts.volume,
+    )?;
     let truth_layers = count_layers(&truth.blocks, opts.layer_tol_mm);
     let recon_layers = count_layers(&recon.blocks, opts.layer_tol_mm);
     let verdict = if recon.status == ReconStatus::Unsupported {
@@ -188,6 +198,7 @@ pub fn score_reconstruction_with_options(
         recall,
         f1,
         mean_center_error_mm,
+        detection,
         truth_layers,
         recon_layers,
         layers_right: truth_layers == recon_layers,

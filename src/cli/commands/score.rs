@@ -75,6 +75,14 @@ pub fn score_table(s: &Score) -> String {
         "precision/recall/F1",
         format!("{:.3} / {:.3} / {:.3}", s.precision, s.recall, s.f1),
     );
+    let d = &s.detection;
+    row(
+        "3D IoU ≥ 0.5 P/R/F1",
+        format!(
+            "{:.3} / {:.3} / {:.3}  ({} of {} truth, {} recon matched one to one, same type)",
+            d.precision, d.recall, d.f1, d.matched, d.truth_blocks, d.recon_blocks
+        ),
+    );
     row(
         "mean centre error",
         s.mean_center_error_mm

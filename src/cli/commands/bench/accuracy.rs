@@ -326,7 +326,7 @@ fn gate(golden_path: &Path, results: &[SceneResult]) -> anyhow::Result<()> {
 /// The per-family table.
 pub(super) fn family_table(rows: &[FamilySummary]) -> String {
     let mut t = String::from(
-        "| family | scenes | mean IoU | exact | declined | confidently wrong | expected failures |\n|---|---|---|---|---|---|---|\n",
+        "| family | scenes | mean IoU | blocks P / R / F1 at 3D IoU ≥ 0.5 | exact | declined | confidently wrong | expected failures |\n|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let failures = if r.expected_failures == 0 {
@@ -339,11 +339,15 @@ pub(super) fn family_table(rows: &[FamilySummary]) -> String {
                 if r.unexpected_passes > 0 { " (!)" } else { "" }
             )
         };
+        let d = &r.detection;
         t.push_str(&format!(
-            "| {} | {} | {:.4} | {:.0}% | {} | {} | {} |\n",
+            "| {} | {} | {:.4} | {:.3} / {:.3} / {:.3} | {:.0}% | {} | {} | {} |\n",
             r.family,
             r.scenes,
             r.mean_iou,
+            d.precision,
+            d.recall,
+            d.f1,
             100.0 * r.exact_share,
             r.declined,
             r.confidently_wrong,
