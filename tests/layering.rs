@@ -35,7 +35,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("csg", &["recognize", "scene", "camera", "geom"]),
     ("kanade", &["drawing", "camera", "geom"]),
     ("view", &["scene", "drawing", "linedraw", "camera", "geom"]),
-    ("export", &["scene", "drawing", "geom", "io"]),
+    ("export", &["scene", "drawing", "camera", "geom", "io"]),
     (
         "pipeline",
         &[

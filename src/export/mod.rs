@@ -7,11 +7,18 @@
 //! primitives) and one node per block (its pose), so a scene or a reconstruction can be looked
 //! at from any viewpoint outside blockworld.
 //!
+//! Beside it, the vision-tool exports of a dataset's views (docs/exports.md "Exports for vision
+//! tools (COCO)"): [`coco`] records from [`masks`] (exact visible masks from the id pictures, full
+//! masks from projected silhouettes, COCO run lengths) and cameras in [`opencv`]'s convention.
+//!
 //! Units and axes: glTF is metres, +y up, right-handed. Those are blockworld's axes (docs/formats.md
 //! "Conventions"), so the only conversion is mm -> m (x 0.001). Everything here is pure: the
 //! functions return bytes and `cli` writes them.
 
+pub mod coco;
+pub mod masks;
 mod mesh;
+pub mod opencv;
 mod overlay;
 mod thesis;
 pub mod wireframe;
