@@ -536,25 +536,19 @@ fn generate_writes_wedge_and_round_scenes_deterministically() {
     };
     let tmp = tempfile::tempdir().unwrap();
     let run = |dir: &std::path::Path, jobs: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args([
-                "generate",
-                "--family",
-                "wedge,round",
-                "--count",
-                "4",
-                "--seed",
-                "3",
-            ])
-            .args(["--jobs", jobs, "-o"])
-            .arg(dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::ok(common::blockworld([
+            "generate",
+            "--family",
+            "wedge,round",
+            "--count",
+            "4",
+            "--seed",
+            "3",
+            "--jobs",
+            jobs,
+            "-o",
+            dir.to_str().unwrap(),
+        ]));
         std::fs::read_to_string(dir.join("manifest.jsonl")).unwrap()
     };
     let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));

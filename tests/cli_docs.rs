@@ -2,20 +2,11 @@
 //! this fails when the committed page is not what the parser describes, and shows how it
 //! fails on a stale page.
 
-use std::process::Command;
+mod common;
 
 /// What `blockworld docs cli` prints.
 fn generated_page() -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(["docs", "cli"])
-        .output()
-        .expect("run blockworld docs cli");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("UTF-8 page")
+    common::ok(common::blockworld(["docs", "cli"]))
 }
 
 /// The first line where `committed` differs from `generated`, for the failure message.

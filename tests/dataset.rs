@@ -11,21 +11,11 @@
 //! unless `BLOCKWORLD_REQUIRE_GPU` is set.
 
 mod common;
-use common::blockworld;
+use common::{blockworld, command, ok};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn ok(out: Output) -> String {
-    assert!(
-        out.status.success(),
-        "stdout: {}\nstderr: {}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
+use std::process::Command;
 
 fn generate(dir: &Path, count: u32, extra: &[&str]) -> String {
     let count = count.to_string();
@@ -123,7 +113,7 @@ fn the_same_seed_gives_the_same_bytes_whatever_jobs() {
     assert_same_tree(&a, &b);
     // A different seed gives a different dataset.
     let c = tmp.path().join("c");
-    ok(blockworld(&[
+    ok(blockworld([
         "generate",
         "--count",
         "16",
@@ -152,12 +142,12 @@ fn shards_merge_into_the_unsharded_dataset() {
     let shard2 = sharded.join("manifest.shard-2-of-3.jsonl");
     let kept = std::fs::read(&shard2).unwrap();
     std::fs::remove_file(&shard2).unwrap();
-    let out = blockworld(&["merge", sharded.to_str().unwrap()]);
+    let out = blockworld(["merge", sharded.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("shard 2 of 3 is missing"));
     std::fs::write(&shard2, &kept).unwrap();
 
-    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    ok(blockworld(["merge", sharded.to_str().unwrap()]));
     for i in 0..3 {
         std::fs::remove_file(sharded.join(format!("manifest.shard-{i}-of-3.jsonl"))).unwrap();
     }
@@ -175,18 +165,18 @@ fn merge_refuses_doubled_scenes_and_damaged_files() {
     let good = std::fs::read_to_string(&s0).unwrap();
     let first = good.lines().next().unwrap().to_string();
     std::fs::write(&s0, format!("{good}{first}\n")).unwrap();
-    let out = blockworld(&["merge", ds.to_str().unwrap()]);
+    let out = blockworld(["merge", ds.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("listed twice"));
     std::fs::write(&s0, &good).unwrap();
 
     let scene = ds.join("s000001").join("scene.json");
     let bytes = std::fs::read(&scene).unwrap();
     std::fs::write(&scene, b"{}").unwrap();
-    let out = blockworld(&["merge", ds.to_str().unwrap()]);
+    let out = blockworld(["merge", ds.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("sha256 differs"));
     std::fs::write(&scene, bytes).unwrap();
-    ok(blockworld(&["merge", ds.to_str().unwrap()]));
+    ok(blockworld(["merge", ds.to_str().unwrap()]));
 }
 
 #[test]
@@ -194,15 +184,11 @@ fn shards_from_the_array_job_environment() {
     let tmp = tempfile::tempdir().unwrap();
     let ds = tmp.path().join("ds");
     let run = |var: &str, value: &str| {
-        Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        command()
             .args([
                 "generate", "--count", "5", "--seed", "7", "--views", "", "--shards", "2", "-o",
             ])
             .arg(&ds)
-            .env_remove("SLURM_ARRAY_TASK_ID")
-            .env_remove("SLURM_ARRAY_TASK_COUNT")
-            .env_remove("SLURM_ARRAY_TASK_MIN")
-            .env_remove("JOB_COMPLETION_INDEX")
             .env(var, value)
             .output()
             .unwrap()
@@ -216,12 +202,11 @@ fn shards_from_the_array_job_environment() {
     assert!(!run("SLURM_ARRAY_TASK_ID", "2").status.success());
     // A task resubmitted alone (sbatch --array=1) sees a count of 1 and a minimum of 1: its
     // index is still the shard.
-    let resubmitted = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let resubmitted = command()
         .args([
             "generate", "--count", "5", "--seed", "7", "--views", "", "--shards", "2", "-o",
         ])
         .arg(&ds)
-        .env_remove("JOB_COMPLETION_INDEX")
         .env("SLURM_ARRAY_TASK_ID", "1")
         .env("SLURM_ARRAY_TASK_COUNT", "1")
         .env("SLURM_ARRAY_TASK_MIN", "1")
@@ -231,7 +216,7 @@ fn shards_from_the_array_job_environment() {
         ok(resubmitted).contains("(shard 1/2)"),
         "the resubmitted task resumes shard 1"
     );
-    ok(blockworld(&["merge", ds.to_str().unwrap()]));
+    ok(blockworld(["merge", ds.to_str().unwrap()]));
     assert_eq!(manifest(&ds).len(), 5);
 }
 
@@ -246,7 +231,7 @@ fn merge_names_stray_shards_and_distrusts_a_huge_count() {
     generate(&ds, 3, &["--views", "", "--shard", "1/2"]);
     let stray = ds.join("manifest.shard-0-of-0.jsonl");
     std::fs::write(&stray, "{}\n").unwrap();
-    let out = blockworld(&["merge", ds.to_str().unwrap()]);
+    let out = blockworld(["merge", ds.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -261,7 +246,7 @@ fn merge_names_stray_shards_and_distrusts_a_huge_count() {
         v["count"] = serde_json::from_str(claim).unwrap();
         std::fs::write(&path, v.to_string()).unwrap();
         let started = std::time::Instant::now();
-        let out = blockworld(&["merge", ds.to_str().unwrap()]);
+        let out = blockworld(["merge", ds.to_str().unwrap()]);
         assert_eq!(out.status.code(), Some(2), "count {claim}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
@@ -276,7 +261,7 @@ fn merge_names_stray_shards_and_distrusts_a_huge_count() {
         );
     }
     std::fs::write(&path, original).unwrap();
-    ok(blockworld(&["merge", ds.to_str().unwrap()]));
+    ok(blockworld(["merge", ds.to_str().unwrap()]));
 }
 
 #[test]
@@ -298,7 +283,7 @@ fn a_run_killed_midway_resumes_to_the_same_bytes() {
             dir.to_str().unwrap().into(),
         ]
     };
-    let mut child = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let mut child = command()
         .args(args(&killed))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
@@ -331,19 +316,13 @@ fn a_run_killed_midway_resumes_to_the_same_bytes() {
     // Damage one finished scene as a full disk would: it must be redone too.
     std::fs::write(killed.join("s000003").join("scene.json"), b"").unwrap();
 
-    let out = ok(Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args(&killed))
-        .output()
-        .unwrap());
+    let out = ok(blockworld(args(&killed)));
     let kept = partial as u64 - 1;
     assert!(
         out.contains(&format!("{kept} kept from an earlier run")),
         "{out} (partial {partial})"
     );
-    ok(Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args(&clean))
-        .output()
-        .unwrap());
+    ok(blockworld(args(&clean)));
     assert_same_tree(&killed, &clean);
 }
 
@@ -402,12 +381,7 @@ fn a_full_disk_stops_cleanly_and_the_rerun_resumes_to_the_same_bytes() {
         .chain([dir.to_str().unwrap().to_string()])
         .collect::<Vec<_>>()
     };
-    let run = |dir: &Path| {
-        Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(args(dir))
-            .output()
-            .unwrap()
-    };
+    let run = |dir: &Path| blockworld(args(dir));
     let failed = run(&full);
     let stderr = String::from_utf8_lossy(&failed.stderr);
     assert!(!failed.status.success(), "the 96 KiB disk did not fill up");
@@ -444,7 +418,7 @@ fn other_options_in_the_same_directory_are_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let ds = tmp.path().join("ds");
     generate(&ds, 3, &["--views", ""]);
-    let out = blockworld(&[
+    let out = blockworld([
         "generate",
         "--count",
         "3",
@@ -513,7 +487,7 @@ fn rendered_shards_merge_and_resume() {
     std::fs::remove_file(sharded.join("s000002").join("view_se.png")).unwrap();
     let out = generate(&sharded, 4, &["--size", "128x120", "--shard", "0/2"]);
     assert!(out.contains("1 generated"), "{out}");
-    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    ok(blockworld(["merge", sharded.to_str().unwrap()]));
     for i in 0..2 {
         std::fs::remove_file(sharded.join(format!("manifest.shard-{i}-of-2.jsonl"))).unwrap();
     }
@@ -554,7 +528,7 @@ fn sbatch_generate(array: &str, logs: &Path, ds: &Path, count: u32, extra: &[&st
         .arg(ds)
         .args([&count.to_string(), "7", "4"])
         .args(extra)
-        .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+        .env("BLOCKWORLD", common::run::BIN)
         .output()
         .unwrap();
     let id = ok(out).trim().to_string();
@@ -646,12 +620,12 @@ fn a_slurm_array_of_four_tasks_merges_to_the_bytes_of_one_run() {
     let scene = sharded.join("s000002").join("scene.json");
     let bytes = std::fs::read(&scene).unwrap();
     std::fs::write(&scene, b"{}").unwrap();
-    let out = blockworld(&["merge", sharded.to_str().unwrap()]);
+    let out = blockworld(["merge", sharded.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "merge took a damaged shard");
     assert!(String::from_utf8_lossy(&out.stderr).contains("sha256 differs"));
     std::fs::write(&scene, bytes).unwrap();
 
-    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    ok(blockworld(["merge", sharded.to_str().unwrap()]));
     remove_shard_manifests(&sharded);
     assert_same_tree(&whole, &sharded);
 }
@@ -707,7 +681,7 @@ fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
         60 - kept
     );
     assert!(log.contains(&resumed), "{log}");
-    ok(blockworld(&["merge", sharded.to_str().unwrap()]));
+    ok(blockworld(["merge", sharded.to_str().unwrap()]));
     remove_shard_manifests(&sharded);
     generate(&whole, 240, &opts);
     assert_same_tree(&whole, &sharded);
@@ -764,7 +738,7 @@ fn the_slurm_script_refuses_an_index_outside_its_shards() {
             .arg(&ds)
             .args(["8", "7", "4", "--views", ""])
             .env("SLURM_ARRAY_TASK_ID", task)
-            .env("BLOCKWORLD", env!("CARGO_BIN_EXE_blockworld"))
+            .env("BLOCKWORLD", common::run::BIN)
             .output()
             .unwrap()
     };

@@ -241,7 +241,7 @@ fn same_scene_gives_the_same_bytes() {
 fn cli_writes_a_glb_that_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sample.glb");
-    let o = blockworld(&["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
+    let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let bytes = std::fs::read(&out).unwrap();
     assert_eq!(bytes, scene_to_glb(&thesis_sample()).unwrap());
@@ -258,7 +258,7 @@ fn cli_writes_a_glb_that_reads_back() {
 fn cli_writes_gltf_with_its_bin_beside_it() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("my sample.gltf");
-    let o = blockworld(&["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
+    let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read(&out).unwrap();
     let bin = std::fs::read(dir.path().join("my sample.bin")).unwrap();
@@ -274,7 +274,7 @@ fn cli_refuses_an_unknown_extension_and_names_the_file() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["sample.obj", "sample"] {
         let out = dir.path().join(name);
-        let o = blockworld(&["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
+        let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(2));
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(out.to_str().unwrap()), "{err}");
@@ -287,7 +287,7 @@ fn cli_refuses_an_unknown_extension_and_names_the_file() {
 fn cli_names_a_missing_scene_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.glb");
-    let o = blockworld(&["export", "no/such/scene.json", "-o", out.to_str().unwrap()]);
+    let o = blockworld(["export", "no/such/scene.json", "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("no/such/scene.json"), "{err}");

@@ -7,22 +7,12 @@
 //! `BLOCKWORLD_REQUIRE_GPU` is set.
 
 mod common;
-use common::blockworld;
+use common::{blockworld, ok};
 
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Output;
-
-fn ok(out: Output) -> String {
-    assert!(
-        out.status.success(),
-        "stdout: {}\nstderr: {}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
 
 fn renderer_available() -> bool {
     match blockworld::render::Renderer::new(blockworld::render::Backend::Vulkan) {
@@ -38,7 +28,7 @@ fn renderer_available() -> bool {
 /// A small rendered dataset (8 scenes of several families, 4 views each).
 fn dataset(dir: &Path, count: u32) {
     let count = count.to_string();
-    ok(blockworld(&[
+    ok(blockworld([
         "generate",
         "--count",
         &count,
@@ -616,7 +606,7 @@ fn scenes_running_off_the_picture_clip_to_the_border_with_marked_ends() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let ds = tmp.path().join("ds");
-    ok(blockworld(&[
+    ok(blockworld([
         "generate",
         "--count",
         "4",
@@ -727,7 +717,7 @@ fn the_readme_overlay_is_what_the_reader_draws() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let ds = tmp.path().join("ds");
-    ok(blockworld(&[
+    ok(blockworld([
         "generate",
         "--count",
         "12",

@@ -142,10 +142,7 @@ fn generate_gltf_writes_a_valid_glb_per_scene_listed_in_the_manifest() {
         ];
         args.push(out.to_str().unwrap());
         args.extend_from_slice(extra);
-        Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(&args)
-            .output()
-            .unwrap()
+        common::blockworld(&args)
     };
     let o = run(&["--gltf"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -3,10 +3,10 @@
 //! failure that once passed with a panic, `null` in the output or a misleading message.
 
 mod common;
-use common::blockworld;
+use common::{blockworld, command, fails_with_2, stderr};
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 fn scene(name: &str) -> String {
     common::root()
@@ -14,18 +14,6 @@ fn scene(name: &str) -> String {
         .join(name)
         .to_string_lossy()
         .into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Asserts exit code 2 with a message (no panic) and returns stderr.
-fn fails_with_2(o: &Output) -> String {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    err
 }
 
 fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
@@ -43,7 +31,7 @@ fn full_stdout_is_an_error_with_exit_2() {
         .open("/dev/full")
         .expect("/dev/full exists on Linux");
     let two = scene("two_layer.json");
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let o = command()
         .args(["score", &two, &two])
         .stdout(full)
         .output()
@@ -58,7 +46,7 @@ fn full_stdout_is_an_error_with_exit_2() {
 fn closed_stdout_pipe_ends_quietly() {
     let two = scene("two_layer.json");
     for _ in 0..5 {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        let mut child = command()
             .args(["score", &two, &two])
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -80,7 +68,7 @@ fn headless_render_prints_no_spurious_errors() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let o = command()
         .args(["render", &scene("single_cube.json"), "--views", "ne", "-o"])
         .arg(dir.path())
         .env_remove("XDG_RUNTIME_DIR")
@@ -97,7 +85,7 @@ fn headless_render_prints_no_spurious_errors() {
 fn os_errors_are_printed_once() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().to_string_lossy().into_owned();
-    let err = fails_with_2(&blockworld(&["score", &d, &d]));
+    let err = fails_with_2(&blockworld(["score", &d, &d]));
     assert_eq!(err.matches("Is a directory").count(), 1, "{err}");
     assert!(err.contains(&d), "{err}");
 }
@@ -113,7 +101,7 @@ fn bom_and_invalid_utf8_are_named() {
         "bom.json",
         &[b"\xEF\xBB\xBF".as_slice(), &text].concat(),
     );
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "export",
         bom.to_str().unwrap(),
         "-o",
@@ -126,7 +114,7 @@ fn bom_and_invalid_utf8_are_named() {
     let mut bad = text.clone();
     bad[20] = 0xFF;
     let bad = write(dir.path(), "bad.json", &bad);
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "export",
         bad.to_str().unwrap(),
         "-o",
@@ -148,7 +136,7 @@ fn huge_coordinates_are_refused_naming_the_block() {
     assert_ne!(far, text, "the fixture has the block to move");
     let far = write(dir.path(), "far.json", far.as_bytes());
     let glb = dir.path().join("far.glb");
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "export",
         far.to_str().unwrap(),
         "-o",
@@ -160,7 +148,7 @@ fn huge_coordinates_are_refused_naming_the_block() {
     );
     assert!(!glb.exists());
     let out = dir.path().join("settled.json");
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "settle",
         far.to_str().unwrap(),
         "--allow-drift",
@@ -179,7 +167,7 @@ fn render_views_must_be_given_once_each() {
     let out = dir.path().join("out");
     let one = scene("single_cube.json");
     for (views, says) in [("", "no view given"), ("ne,ne", "ne is given twice")] {
-        let o = blockworld(&[
+        let o = blockworld([
             "render",
             &one,
             "--views",
@@ -202,7 +190,7 @@ fn edges_refuses_a_non_png_output_name() {
         .save(&pic)
         .unwrap();
     let jpg = dir.path().join("e.jpg");
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "edges",
         pic.to_str().unwrap(),
         "-o",
@@ -211,7 +199,7 @@ fn edges_refuses_a_non_png_output_name() {
     assert!(err.contains("e.jpg") && err.contains(".png"), "{err}");
     assert!(!jpg.exists());
     let png = dir.path().join("e.png");
-    let o = blockworld(&["edges", pic.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    let o = blockworld(["edges", pic.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(png.exists());
 }
@@ -246,7 +234,7 @@ fn generate_errors_carry_their_own_fix() {
     let many = [
         "generate", "--views", "", "--count", "2", "--jobs", "1000000", "-o",
     ];
-    let err = fails_with_2(&blockworld(&[&many[..], &[ds.to_str().unwrap()]].concat()));
+    let err = fails_with_2(&blockworld([&many[..], &[ds.to_str().unwrap()]].concat()));
     assert!(err.contains("--jobs 1000000: at most 1024"), "{err}");
     let file = write(dir.path(), "a_file", b"");
     let err = fails_with_2(&generate(&file, &["--count", "2"]));
@@ -260,7 +248,7 @@ fn generate_errors_carry_their_own_fix() {
 fn a_second_generate_into_the_same_folder_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let ds = dir.path().join("ds");
-    let mut first = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let mut first = command()
         .args([
             "generate", "--views", "", "--family", "single", "--jobs", "1",
         ])
@@ -287,7 +275,7 @@ fn generate_streams_whatever_the_count() {
     for count in ["18446744073709551615", "1000000000000"] {
         let dir = tempfile::tempdir().unwrap();
         let ds = dir.path().join("ds");
-        let mut run = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        let mut run = command()
             .args([
                 "generate", "--views", "", "--family", "single", "--jobs", "1",
             ])
@@ -341,7 +329,7 @@ fn oversized_pictures_are_refused_before_rendering() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let o = blockworld(&[
+    let o = blockworld([
         "render",
         &scene("single_cube.json"),
         "--views",
@@ -413,7 +401,7 @@ fn println_on_a_full_stdout_still_exits_2() {
         .unwrap();
     let dir = tempfile::tempdir().unwrap();
     let root = common::root();
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let o = command()
         .args(["bench", "accuracy", "--recognizer"])
         .arg(root.join("golden/recon_reference"))
         .arg("--suite")
@@ -433,7 +421,7 @@ fn println_on_a_full_stdout_still_exits_2() {
 fn endless_inputs_stop_at_the_size_cap() {
     let dir = tempfile::tempdir().unwrap();
     let glb = dir.path().join("z.glb");
-    let err = fails_with_2(&blockworld(&[
+    let err = fails_with_2(&blockworld([
         "export",
         "/dev/zero",
         "-o",
@@ -457,7 +445,7 @@ fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_blockworld"))
+        command()
             .args(args)
             .env("BLOCKWORLD_PROGRESS_AFTER_MS", "0")
             .output()
@@ -501,7 +489,7 @@ fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
         stderr(&o)
     );
     // Without the knob, quick work stays silent.
-    let o = blockworld(&[
+    let o = blockworld([
         "vertices",
         &out.join("view_ne.png").to_string_lossy(),
         "--camera",

@@ -3,17 +3,9 @@
 //! now ends with an answer, a reasoned `unsupported` or exit 2 and a message.
 
 mod common;
-use common::blockworld;
+use common::{blockworld, fails_with_2};
 
 use std::path::Path;
-use std::process::Output;
-
-fn fails_with_2(o: &Output) -> String {
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    err
-}
 
 /// `copies` copies of PAIP's cube drawing side by side, as drawing JSON.
 fn cubes_side_by_side(copies: usize) -> String {
@@ -43,7 +35,7 @@ fn label_json_writes_counts_beyond_u64() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("five_cubes.json");
     std::fs::write(&path, cubes_side_by_side(5)).unwrap();
-    let o = blockworld(&["label", &path.to_string_lossy(), "--json", "--limit", "1"]);
+    let o = blockworld(["label", &path.to_string_lossy(), "--json", "--limit", "1"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{err}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -75,7 +67,7 @@ fn a_camera_that_is_not_rigid_is_refused() {
     std::fs::write(&camera, c.to_string()).unwrap();
     let out = dir.path().join("r.json");
     let d = dir.path().to_string_lossy().into_owned();
-    let o = blockworld(&[
+    let o = blockworld([
         "recognize",
         &d,
         "--from-truth",

@@ -860,7 +860,7 @@ fn the_gradient_check_keeps_the_true_labels_and_refuses_a_crack_between_faces() 
 
 #[test]
 fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
-    let out = blockworld(&["label", "tests/fixtures/kanade/paip_cube.json"]);
+    let out = blockworld(["label", "tests/fixtures/kanade/paip_cube.json"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -868,7 +868,7 @@ fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
         "{text}"
     );
     assert!(text.contains("consistent labellings: 4"), "{text}");
-    let out = blockworld(&[
+    let out = blockworld([
         "label",
         "tests/fixtures/kanade/paip_cube.json",
         "--json",
@@ -881,7 +881,7 @@ fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.json");
     std::fs::write(&bad, r#"{"points": [[0, 0]], "lines": [[0, 3]]}"#).unwrap();
-    let out = blockworld(&["label", bad.to_str().unwrap()]);
+    let out = blockworld(["label", bad.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.json") && err.contains("line 0"), "{err}");

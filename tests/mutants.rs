@@ -14,7 +14,6 @@ include!("fuzz/fuzz_targets/camera_check.rs");
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Values a hostile file puts where a number belongs.
 const EXTREMES: &[&str] = &[
@@ -190,13 +189,12 @@ fn judge_export(dir: &Path, i: usize, mutant: &[u8]) -> Result<bool, String> {
     let out_dir = dir.join(format!("out{i}"));
     std::fs::create_dir(&out_dir).unwrap();
     let glb = out_dir.join("m.glb");
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .arg("export")
-        .arg(&input)
-        .arg("-o")
-        .arg(&glb)
-        .output()
-        .unwrap();
+    let o = common::blockworld([
+        "export",
+        input.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+    ]);
     let err = String::from_utf8_lossy(&o.stderr);
     let left: Vec<String> = std::fs::read_dir(&out_dir)
         .unwrap()

@@ -4,21 +4,13 @@
 //! stdout, so a full stdout is an error.
 
 mod common;
-use common::blockworld;
+use common::{blockworld, fails_with_2};
 
 use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
 fn root(rel: &str) -> String {
     common::root().join(rel).to_string_lossy().into_owned()
-}
-
-fn fails_with_2(o: &Output) -> String {
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    err
 }
 
 /// A FIFO in `dir` with a thread draining it; the thread returns the bytes read.
@@ -72,7 +64,7 @@ fn a_directory_output_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().to_string_lossy().into_owned();
     let two = root("scenes/two_layer.json");
-    let err = fails_with_2(&blockworld(&["settle", &two, "-o", &d]));
+    let err = fails_with_2(&blockworld(["settle", &two, "-o", &d]));
     assert!(err.contains("is a directory"), "{err}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
@@ -99,14 +91,14 @@ fn an_output_that_is_an_input_is_refused() {
     let scene = dir.path().join("s.json");
     std::fs::copy(common::root().join("scenes/two_layer.json"), &scene).unwrap();
     let s = scene.to_string_lossy().into_owned();
-    let err = fails_with_2(&blockworld(&["settle", &s, "-o", &s]));
+    let err = fails_with_2(&blockworld(["settle", &s, "-o", &s]));
     assert!(err.contains("is the input"), "{err}");
 
     let thesis = dir.path().join("t");
     let t = thesis.to_string_lossy().into_owned();
-    let o = blockworld(&["export", &s, "--format", "thesis", "-o", &t]);
+    let o = blockworld(["export", &s, "--format", "thesis", "-o", &t]);
     assert_eq!(o.status.code(), Some(0));
-    let err = fails_with_2(&blockworld(&["export", &t, "--format", "thesis", "-o", &t]));
+    let err = fails_with_2(&blockworld(["export", &t, "--format", "thesis", "-o", &t]));
     assert!(err.contains("is the input"), "{err}");
 }
 
@@ -116,7 +108,7 @@ fn a_repeated_view_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.json").to_string_lossy().into_owned();
     let cube = root("tests/fixtures/vision/single_cube");
-    let o = blockworld(&[
+    let o = blockworld([
         "recognize",
         &cube,
         "--from-truth",
@@ -147,11 +139,7 @@ fn result_lines_go_to_stdout() {
             .write(true)
             .open("/dev/full")
             .unwrap();
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(&args)
-            .stdout(full)
-            .output()
-            .unwrap();
+        let o = common::command().args(&args).stdout(full).output().unwrap();
         let err = fails_with_2(&o);
         assert!(err.contains("writing to stdout"), "{args:?}: {err}");
     }

@@ -239,11 +239,8 @@ fn the_photo_parts_give_render_pixels_whole_view_and_leave_out_what_they_say() {
 fn bench_render_photo_parts_prints_a_row_per_size_and_refuses_photo_only_beside_it() {
     let Some(_) = renderer() else { return };
     let run = |extra: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(["bench", "render", "--iterations", "4", "--blocks", "1,3"])
-            .args(extra)
-            .output()
-            .unwrap()
+        let args = ["bench", "render", "--iterations", "4", "--blocks", "1,3"];
+        common::blockworld(args.iter().chain(extra))
     };
     let o = run(&["--photo-parts"]);
     let out = String::from_utf8_lossy(&o.stdout);

@@ -264,12 +264,7 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
     let dir = tmp.join("s000014");
     write_truth_dir(&truth, &dir);
     let out = tmp.join("recon.json");
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-            .args(args)
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| common::blockworld(args);
     let debug = tmp.join("debug");
     let ok = run(&[
         "recognize",

@@ -5,7 +5,6 @@ mod common;
 use common::blockworld;
 
 use std::path::Path;
-use std::process::Command;
 
 fn file_names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -27,7 +26,7 @@ fn render_writes_five_files_per_view_deterministically() {
     let out_a = tmp.path().join("a/nested");
     let out_b = tmp.path().join("b");
     let run = |out: &Path| {
-        let o = blockworld(&[
+        let o = blockworld([
             "render",
             scene.to_str().unwrap(),
             "-o",
@@ -87,7 +86,7 @@ fn render_options_reach_the_picture() {
     }
     let scene = common::root().join("scenes/single_cube.json");
     let tmp = tempfile::tempdir().unwrap();
-    let o = blockworld(&[
+    let o = blockworld([
         "render",
         scene.to_str().unwrap(),
         "-o",
@@ -124,7 +123,7 @@ fn bad_input_fails_with_the_file_named_and_writes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let missing = tmp.path().join("no_such_scene.json");
-    let o = blockworld(&[
+    let o = blockworld([
         "render",
         missing.to_str().unwrap(),
         "-o",
@@ -140,12 +139,12 @@ fn bad_input_fails_with_the_file_named_and_writes_nothing() {
         r#"{"name": "x", "blocks": [{"type": "b99", "center": [0, 7.5, 0]}]}"#,
     )
     .unwrap();
-    let o = blockworld(&["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = blockworld(["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("bad.json") && err.contains("b99"), "{err}");
     let scene = common::root().join("scenes/row.json");
-    let o = blockworld(&[
+    let o = blockworld([
         "render",
         scene.to_str().unwrap(),
         "-o",
@@ -165,7 +164,7 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("demo");
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let o = common::command()
         .args(["demo", "-o", out.to_str().unwrap()])
         .current_dir(common::root())
         .output()
@@ -231,7 +230,7 @@ fn no_vulkan_driver_gives_the_install_hint_not_a_panic() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let scene = common::root().join("scenes/single_cube.json");
-    let o = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let o = common::command()
         .args([
             "render",
             scene.to_str().unwrap(),

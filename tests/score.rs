@@ -5,7 +5,6 @@ mod common;
 use common::blockworld;
 
 use std::path::Path;
-use std::process::Command;
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let p = dir.join(name);
@@ -32,7 +31,7 @@ fn score_against_truth(dir: &Path, recon: &str, extra: &[&str]) -> std::process:
 fn identical_scene_scores_exact_in_json() {
     let dir = tempfile::tempdir().unwrap();
     let truth = write(dir.path(), "truth.json", TRUTH);
-    let out = blockworld(&["score", &truth, &truth, "--json"]);
+    let out = blockworld(["score", &truth, &truth, "--json"]);
     assert!(
         out.status.success(),
         "{}",
@@ -115,7 +114,7 @@ fn unsupported_reconstruction_gives_the_unsupported_verdict() {
         "recon.json",
         r#"{"name": "r", "status": "unsupported", "reason": "upper layer larger", "blocks": []}"#,
     );
-    let out = blockworld(&["score", &truth, &recon, "--json"]);
+    let out = blockworld(["score", &truth, &recon, "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["verdict"], "unsupported");
     assert_eq!(v["reason"], "upper layer larger");
@@ -130,14 +129,14 @@ fn bad_input_names_the_file_and_exits_non_zero() {
         "broken_recon.json",
         r#"{"name": "r", "blocks": [{"type": "b45", "center": [0, 0, 0]}]}"#,
     );
-    let out = blockworld(&["score", &truth, &bad]);
+    let out = blockworld(["score", &truth, &bad]);
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("broken_recon.json") && err.contains("b45"),
         "{err}"
     );
-    let out = blockworld(&[
+    let out = blockworld([
         "score",
         &dir.path().join("missing.json").display().to_string(),
         &truth,
@@ -151,7 +150,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     let root = env!("CARGO_MANIFEST_DIR");
     let dir = tempfile::tempdir().unwrap();
     let json_out = dir.path().join("acc.json").display().to_string();
-    let out = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let out = common::command()
         .current_dir(root)
         .args([
             "bench",
@@ -188,7 +187,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     assert!(v["scenes"].as_array().unwrap().len() >= 12);
     // An empty recognizer directory: every scene fails, supported ones stop being recognized.
     let empty = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_blockworld"))
+    let out = common::command()
         .current_dir(root)
         .args([
             "bench",

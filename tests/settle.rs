@@ -2,8 +2,9 @@
 //! its intended poses and settling it again changes no byte; an unstable one is reported block
 //! by block, exits non-zero and writes nothing unless `--allow-drift`.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
 const STABLE: &str = r#"{"name": "two_layer",
   "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
@@ -17,14 +18,8 @@ const UNSTABLE: &str = r#"{"name": "tips",
              {"type": "b15", "center": [10, 22.5, 0]}]}"#;
 
 fn settle(input: &Path, output: &Path, extra: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .arg("settle")
-        .arg(input)
-        .arg("-o")
-        .arg(output)
-        .args(extra)
-        .output()
-        .expect("runs the binary")
+    let (input, output) = (input.to_str().unwrap(), output.to_str().unwrap());
+    common::blockworld(["settle", input, "-o", output].iter().chain(extra))
 }
 
 #[test]

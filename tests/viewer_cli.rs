@@ -58,7 +58,7 @@ fn exported_data_files_are_read_back_by_view_and_score() {
     let tmp = tempfile::tempdir().unwrap();
     let sample = common::root().join("scenes/thesis_sample.json");
     let prefix = tmp.path().join("sample");
-    let o = blockworld(&["export", s(&sample), "--format", "thesis", "-o", s(&prefix)]);
+    let o = blockworld(["export", s(&sample), "--format", "thesis", "-o", s(&prefix)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let vertices = std::fs::read_to_string(tmp.path().join("sample_vertices.txt")).unwrap();
     assert_eq!(
@@ -68,19 +68,19 @@ fn exported_data_files_are_read_back_by_view_and_score() {
     );
     // The same bytes again.
     let again = tmp.path().join("again");
-    blockworld(&["export", s(&sample), "--format", "thesis", "-o", s(&again)]);
+    blockworld(["export", s(&sample), "--format", "thesis", "-o", s(&again)]);
     assert_eq!(
         vertices,
         std::fs::read_to_string(tmp.path().join("again_vertices.txt")).unwrap()
     );
     let png = tmp.path().join("v.png");
-    let o = blockworld(&["view", s(&prefix), "-o", s(&png), "--world"]);
+    let o = blockworld(["view", s(&prefix), "-o", s(&png), "--world"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("5 blocks") && out.contains("  40 "), "{out}");
     // Scoring the data files against themselves: a perfect match.
     let vp = tmp.path().join("sample_vertices.txt");
-    let o = blockworld(&["score", s(&vp), s(&prefix), "--json"]);
+    let o = blockworld(["score", s(&vp), s(&prefix), "--json"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let score: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(
@@ -89,7 +89,7 @@ fn exported_data_files_are_read_back_by_view_and_score() {
     );
     // Against the scene in its own frame the thesis's frame is shifted (x = 0 at the least x):
     // the check can fail.
-    let o = blockworld(&["score", s(&sample), s(&prefix), "--json"]);
+    let o = blockworld(["score", s(&sample), s(&prefix), "--json"]);
     let score: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(score["iou"].as_f64().unwrap() < 0.9, "{score}");
 }
@@ -100,7 +100,7 @@ fn an_overlay_draws_truth_and_reconstruction_in_two_colours() {
     let truth = common::root().join("scenes/thesis_sample.json");
     let recon = common::root().join("scenes/two_layer.json");
     let png = tmp.path().join("o.png");
-    let o = blockworld(&[
+    let o = blockworld([
         "view",
         s(&recon),
         "--overlay",
@@ -122,7 +122,7 @@ fn shaded_viewports_and_svg_are_written() {
     let tmp = tempfile::tempdir().unwrap();
     let sample = common::root().join("scenes/thesis_sample.json");
     let png = tmp.path().join("s.png");
-    let o = blockworld(&[
+    let o = blockworld([
         "view",
         s(&sample),
         "-o",
@@ -142,7 +142,7 @@ fn shaded_viewports_and_svg_are_written() {
         "shaded faces fill the viewports: {gray_fill}"
     );
     let svg = tmp.path().join("s.svg");
-    let o = blockworld(&["view", s(&sample), "-o", s(&svg), "--up", "2,1,3"]);
+    let o = blockworld(["view", s(&sample), "-o", s(&svg), "--up", "2,1,3"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&svg).unwrap();
     assert_eq!(text.matches("<line ").count(), 60);
@@ -170,10 +170,10 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
         assert!(err.contains(needle), "{extra:?}: {err}");
         assert!(!png.exists());
     }
-    let o = blockworld(&["view", s(&sample), "-o", s(&tmp.path().join("x.jpg"))]);
+    let o = blockworld(["view", s(&sample), "-o", s(&tmp.path().join("x.jpg"))]);
     assert_eq!(o.status.code(), Some(2));
     let svg = tmp.path().join("x.svg");
-    let o = blockworld(&["view", s(&sample), "-o", s(&svg), "--shade"]);
+    let o = blockworld(["view", s(&sample), "-o", s(&svg), "--shade"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains(".png") && !svg.exists());
     // A declined reconstruction has no blocks to look at.
@@ -183,7 +183,7 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
         r#"{"name": "d", "blocks": [], "status": "unsupported", "reason": "overhang"}"#,
     )
     .unwrap();
-    let o = blockworld(&["view", s(&declined), "-o", s(&png)]);
+    let o = blockworld(["view", s(&declined), "-o", s(&png)]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("no blocks"),
@@ -191,7 +191,7 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
         String::from_utf8_lossy(&o.stderr)
     );
     let frag = common::root().join("tests/fixtures/appendix_b");
-    let o = blockworld(&["view", s(&frag), "-o", s(&png)]);
+    let o = blockworld(["view", s(&frag), "-o", s(&png)]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("declares 40"));
 }

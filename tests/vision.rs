@@ -438,21 +438,20 @@ fn committed_fixtures_are_found_exactly() {
 /// PNG; a picture of the wrong size fails naming the file and both sizes.
 #[test]
 fn cli_vertices_and_edges_on_fixtures() {
-    let exe = env!("CARGO_BIN_EXE_blockworld");
     let fx =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vision/single_cube");
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("v.json");
-    let st = std::process::Command::new(exe)
-        .args(["vertices"])
-        .arg(fx.join("view_ne.png"))
-        .arg("--camera")
-        .arg(fx.join("camera_ne.json"))
-        .arg("-o")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (view_ne, camera_ne) = (s(&fx.join("view_ne.png")), s(&fx.join("camera_ne.json")));
+    common::ok(common::blockworld([
+        "vertices",
+        &view_ne,
+        "--camera",
+        &camera_ne,
+        "-o",
+        &s(&out),
+    ]));
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     // The one vertices format is the line-drawing format of `lines_<view>.json`.
@@ -470,18 +469,16 @@ fn cli_vertices_and_edges_on_fixtures() {
 
     let edges = tmp.path().join("e.png");
     let magnitude = tmp.path().join("m.png");
-    let st = std::process::Command::new(exe)
-        .arg("edges")
-        .arg(fx.join("view_ne.png"))
-        .arg("-o")
-        .arg(&edges)
-        .arg("--threshold")
-        .arg("80")
-        .arg("--magnitude")
-        .arg(&magnitude)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    common::ok(common::blockworld([
+        "edges",
+        &view_ne,
+        "-o",
+        &s(&edges),
+        "--threshold",
+        "80",
+        "--magnitude",
+        &s(&magnitude),
+    ]));
     let e = image::open(&edges).unwrap().into_luma8();
     assert!(e.as_raw().iter().all(|&x| x == 0 || x == 255));
     assert!(e.as_raw().contains(&255));
@@ -496,13 +493,7 @@ fn cli_vertices_and_edges_on_fixtures() {
 
     let small = tmp.path().join("small.png");
     GrayImage::new(64, 48).save(&small).unwrap();
-    let o = std::process::Command::new(exe)
-        .arg("vertices")
-        .arg(&small)
-        .arg("--camera")
-        .arg(fx.join("camera_ne.json"))
-        .output()
-        .unwrap();
+    let o = common::blockworld(["vertices", &s(&small), "--camera", &camera_ne]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(

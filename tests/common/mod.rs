@@ -1,8 +1,13 @@
-//! Helpers shared by the whole-pipeline tests: the GPU-skip rule and golden-image comparison
+//! Helpers shared by the integration tests: the one runner of the `blockworld` binary
+//! ([`run`]), the GPU-skip rule and golden-image comparison
 //! (style guide §4: share of differing pixels + maximum absolute difference, statistics printed
 //! whether the check passes or not, a missing golden fails and names the bless command).
 
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
+
+pub mod run;
+
+pub use run::{blockworld, command, fails_with_2, ok, stderr};
 
 use blockworld::render::{Backend, Renderer};
 use image::{GrayImage, Luma};
@@ -21,18 +26,6 @@ pub fn renderer() -> Option<Renderer> {
         }
         Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but the renderer cannot start: {e}"),
     }
-}
-
-/// Runs the `blockworld` binary built for these tests with `args` and returns its output. The
-/// scale-out variables a Slurm or Kubernetes job would set are removed, so a test run inside
-/// such a job still runs the commands as a single worker would.
-pub fn blockworld(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_blockworld"))
-        .args(args)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env_remove("JOB_COMPLETION_INDEX")
-        .output()
-        .expect("runs the blockworld binary")
 }
 
 /// The repository root.

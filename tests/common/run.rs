@@ -1,0 +1,84 @@
+//! The one runner of the `blockworld` binary built for these tests, and the checks of its
+//! output that many tests share.
+
+use std::ffi::OsStr;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// The binary built for these tests; for scripts that take it in `BLOCKWORLD`.
+pub const BIN: &str = env!("CARGO_BIN_EXE_blockworld");
+
+/// The variables through which a Slurm array job or a Kubernetes Indexed Job hands a task its
+/// shard (docs/datasets.md); a test run inside such a job must not pass them on.
+pub const SCALE_OUT_VARIABLES: [&str; 5] = [
+    "SLURM_ARRAY_TASK_ID",
+    "SLURM_ARRAY_TASK_COUNT",
+    "SLURM_ARRAY_TASK_MIN",
+    "SLURM_ARRAY_TASK_MAX",
+    "JOB_COMPLETION_INDEX",
+];
+
+/// The binary as a command without arguments, for tests that need raw control (stdin, stdout,
+/// `spawn`, extra variables, another working directory). The scale-out variables are removed
+/// and `XDG_RUNTIME_DIR` is set, so a run inside a batch job or a container behaves as one in a
+/// login session.
+pub fn command() -> Command {
+    let mut c = Command::new(BIN);
+    for v in SCALE_OUT_VARIABLES {
+        c.env_remove(v);
+    }
+    c.env("XDG_RUNTIME_DIR", runtime_dir());
+    c
+}
+
+/// Runs the binary with `args` (see [`command`]) and returns its output.
+pub fn blockworld<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<OsStr>,
+{
+    command()
+        .args(args)
+        .output()
+        .expect("runs the blockworld binary")
+}
+
+/// The inherited `XDG_RUNTIME_DIR` when it is a directory, else a private one under cargo's
+/// temporary folder for integration tests (made with mode 0700, as a session's is).
+fn runtime_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("XDG_RUNTIME_DIR").map(PathBuf::from) {
+        if d.is_dir() {
+            return d;
+        }
+    }
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("xdg-runtime");
+    std::fs::create_dir_all(&d).expect("creates the runtime directory");
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&d, std::fs::Permissions::from_mode(0o700))
+        .expect("makes the runtime directory private");
+    d
+}
+
+/// What the run printed on stderr.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts the run succeeded (printing both streams when not) and returns its stdout.
+pub fn ok(o: Output) -> String {
+    assert!(
+        o.status.success(),
+        "stdout: {}\nstderr: {}",
+        String::from_utf8_lossy(&o.stdout),
+        stderr(&o)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Asserts exit code 2 with a message and no panic (the bad-input contract) and returns stderr.
+pub fn fails_with_2(o: &Output) -> String {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
