@@ -19,7 +19,7 @@ use blockworld::recognize::RecognizeOptions;
 use blockworld::render::{Look, RenderOptions};
 use blockworld::scene::{read_scene, Scene};
 use blockworld::score::{
-    check_gate, summarize_by_family, GateFailure, Golden, Verdict, BLESS_COMMAND,
+    check_gate, summarize_by_family, GateFailure, Golden, SceneResult, Verdict, BLESS_COMMAND,
 };
 use std::sync::OnceLock;
 
@@ -141,6 +141,25 @@ fn first_exact_ids(golden: &Golden, n: usize) -> Vec<&str> {
         .collect()
 }
 
+/// Checks `results`, runs of the scenes `exact` made worse by a worse `what`, against their
+/// rows of `golden`, and asserts the gate reports each of those scenes' verdict as worse.
+fn assert_the_gate_notices(golden: &Golden, exact: &[&str], results: &[SceneResult], what: &str) {
+    let mut partial = golden.clone();
+    partial.scenes.retain(|g| exact.contains(&g.id.as_str()));
+    let failures = check_gate(&partial, results);
+    for f in &failures {
+        println!("{f}");
+    }
+    for id in exact {
+        assert!(
+            failures
+                .iter()
+                .any(|f| matches!(f, GateFailure::VerdictWorse { id: x, .. } if x == id)),
+            "the worse {what} on {id} went unnoticed: {failures:?}"
+        );
+    }
+}
+
 fn golden(suite: &Suite) -> Golden {
     let path = common::root().join(suite.golden);
     let text = std::fs::read_to_string(&path)
@@ -198,20 +217,7 @@ fn the_varied_gate_fails_on_a_worse_look() {
             run_scene(&renderer, id, s, &worse).result
         })
         .collect();
-    let mut partial = golden.clone();
-    partial.scenes.retain(|g| exact.contains(&g.id.as_str()));
-    let failures = check_gate(&partial, &results);
-    for f in &failures {
-        println!("{f}");
-    }
-    for id in &exact {
-        assert!(
-            failures
-                .iter()
-                .any(|f| matches!(f, GateFailure::VerdictWorse { id: x, .. } if x == id)),
-            "the worse look on {id} went unnoticed: {failures:?}"
-        );
-    }
+    assert_the_gate_notices(&golden, &exact, &results, "look");
 }
 
 /// Prints the suite's verdicts and fails on a regression against its golden file (or writes
@@ -334,18 +340,5 @@ fn the_gate_fails_on_a_worse_recognizer() {
         .filter(|(id, _)| exact.contains(&id.as_str()))
         .map(|(id, s)| run_scene(&renderer, id, s, &worse).result)
         .collect();
-    let mut partial = golden.clone();
-    partial.scenes.retain(|g| exact.contains(&g.id.as_str()));
-    let failures = check_gate(&partial, &results);
-    for f in &failures {
-        println!("{f}");
-    }
-    for id in &exact {
-        assert!(
-            failures
-                .iter()
-                .any(|f| matches!(f, GateFailure::VerdictWorse { id: x, .. } if x == id)),
-            "the worse recognizer on {id} went unnoticed: {failures:?}"
-        );
-    }
+    assert_the_gate_notices(&golden, &exact, &results, "recognizer");
 }

@@ -4,6 +4,7 @@
 //! and the round part `c15` rendered, drawn, scored and exported.
 
 mod common;
+use common::{distance_to_segment, same_blocks};
 
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::LineDrawing;
@@ -167,12 +168,6 @@ fn seen(scene: &Scene, round: usize, camera: &blockworld::camera::Camera, p: DVe
         };
         hit.is_none()
     })
-}
-
-fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(ab) / ab.length_squared().max(1e-18)).clamp(0.0, 1.0);
-    p.distance(a + ab * t)
 }
 
 /// Ray-cast check of a round part's rims in `drawing` (the part is block `round` of `scene`,
@@ -475,7 +470,7 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
             let r = recognize(&views, &RecognizeOptions::default()).unwrap();
             assert_eq!(r.status, ReconStatus::Ok, "{what}: {:?}", r.reason);
             assert!(
-                same_blocks(&r.blocks, &wedge.blocks),
+                same_blocks(&r.blocks, &wedge.blocks, SAME_CORNER_MM),
                 "{what}: {:?}",
                 r.blocks
             );
@@ -483,19 +478,9 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
     }
 }
 
-/// `true` when `got` holds the blocks of `truth`: same types with every corner within 0.1 mm
-/// (the same solid whatever symmetry its yaw has; a wedge has none, so its facing counts).
-fn same_blocks(got: &[Block], truth: &[Block]) -> bool {
-    got.len() == truth.len()
-        && truth.iter().all(|t| {
-            got.iter().any(|b| {
-                b.block_type.id == t.block_type.id
-                    && t.world_vertices()
-                        .iter()
-                        .all(|p| b.world_vertices().iter().any(|q| q.distance(*p) < 0.1))
-            })
-        })
-}
+/// How far (mm) a recognized block's corners may lie from the truth's and still be the same
+/// block: the recognizer snaps to the 7.5 mm grid, so an exact answer is off by rounding only.
+const SAME_CORNER_MM: f64 = 0.1;
 
 /// A sloped face plane found in a drawing is the wedge's: its normal is `slope` (either sign)
 /// and its gradient the one that face has in `cam` (relative to its size: a face seen nearly
@@ -671,7 +656,8 @@ fn trapezoidal_blocks_are_reconstructed_from_pictures_figure_7_1() {
                 let views = drawings_from_pictures(&renderer, &scene, noise);
                 let r = recognize(&views, &RecognizeOptions::default()).unwrap();
                 let what = format!("{part} yaw {yaw} on top {on_top} noise {noise}");
-                let exact = r.status == ReconStatus::Ok && same_blocks(&r.blocks, &scene.blocks);
+                let exact = r.status == ReconStatus::Ok
+                    && same_blocks(&r.blocks, &scene.blocks, SAME_CORNER_MM);
                 if noise == 0.0 {
                     assert!(exact, "{what}: {:?} {:?}", r.reason, r.blocks);
                 } else {

@@ -11,7 +11,7 @@
 //! unless `BLOCKWORLD_REQUIRE_GPU` is set.
 
 mod common;
-use common::{blockworld, command, ok};
+use common::{blockworld, command, ok, renderer_available};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -431,19 +431,6 @@ fn other_options_in_the_same_directory_are_refused() {
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("other options"));
-}
-
-/// The renderer, or a loud skip (`None`) when there is no adapter and `BLOCKWORLD_REQUIRE_GPU`
-/// is unset.
-fn renderer_available() -> bool {
-    match blockworld::render::Renderer::new(blockworld::render::Backend::Vulkan) {
-        Ok(_) => true,
-        Err(e) if std::env::var_os("BLOCKWORLD_REQUIRE_GPU").is_none() => {
-            eprintln!("SKIPPED (no renderer: {e}); set BLOCKWORLD_REQUIRE_GPU=1 to fail instead");
-            false
-        }
-        Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but the renderer failed: {e}"),
-    }
 }
 
 #[test]

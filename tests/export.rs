@@ -242,7 +242,7 @@ fn cli_writes_a_glb_that_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sample.glb");
     let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let bytes = std::fs::read(&out).unwrap();
     assert_eq!(bytes, scene_to_glb(&thesis_sample()).unwrap());
     let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
@@ -259,7 +259,7 @@ fn cli_writes_gltf_with_its_bin_beside_it() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("my sample.gltf");
     let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let text = std::fs::read(&out).unwrap();
     let bin = std::fs::read(dir.path().join("my sample.bin")).unwrap();
     let gltf = gltf::Gltf::from_slice(&text).unwrap();

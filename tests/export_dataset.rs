@@ -7,40 +7,32 @@
 //! `BLOCKWORLD_REQUIRE_GPU` is set.
 
 mod common;
-use common::{blockworld, ok};
+use common::{blockworld, ok, renderer_available};
 
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Output;
+use tempfile::TempDir;
 
-fn renderer_available() -> bool {
-    match blockworld::render::Renderer::new(blockworld::render::Backend::Vulkan) {
-        Ok(_) => true,
-        Err(e) if std::env::var_os("BLOCKWORLD_REQUIRE_GPU").is_none() => {
-            eprintln!("SKIPPED (no renderer: {e}); set BLOCKWORLD_REQUIRE_GPU=1 to fail instead");
-            false
-        }
-        Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but the renderer failed: {e}"),
+/// A temporary folder and its `ds/`: `count` rendered scenes of seed `seed` (several families,
+/// 4 views each) generated with one worker, at `size` (`WxH`) or the default picture size.
+/// `None` after a loud skip when there is no renderer.
+fn rendered_dataset(count: u32, seed: u32, size: Option<&str>) -> Option<(TempDir, PathBuf)> {
+    if !renderer_available() {
+        return None;
     }
-}
-
-/// A small rendered dataset (8 scenes of several families, 4 views each).
-fn dataset(dir: &Path, count: u32) {
-    let count = count.to_string();
-    ok(blockworld([
-        "generate",
-        "--count",
-        &count,
-        "--seed",
-        "5",
-        "--jobs",
-        "1",
-        "--size",
-        "200x160",
-        "-o",
-        dir.to_str().unwrap(),
-    ]));
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    let (count, seed) = (count.to_string(), seed.to_string());
+    let mut args = vec![
+        "generate", "--count", &count, "--seed", &seed, "--jobs", "1",
+    ];
+    if let Some(size) = size {
+        args.extend(["--size", size]);
+    }
+    ok(blockworld(args.iter().chain(&["-o", ds.to_str().unwrap()])));
+    Some((tmp, ds))
 }
 
 fn export(dataset: &Path, format: &str, out: &Path, extra: &[&str]) -> Output {
@@ -144,12 +136,7 @@ fn read_hawp(root: &Path) -> Vec<Labelled> {
     }
     for item in read_json(&root.join("test.json")).as_array().unwrap() {
         let mut l = common(root, "images", item, false, "filename");
-        l.lines = item["lines"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(line4)
-            .collect();
+        l.lines = lines4(&item["lines"]);
         l.junctions = item["junc"].as_array().unwrap().iter().map(xy).collect();
         let types = kinds(&item["junction_type"]);
         let is_border = |p: [f64; 2]| {
@@ -177,6 +164,11 @@ fn line4(v: &Value) -> [[f64; 2]; 2] {
     [[c[0], c[1]], [c[2], c[3]]]
 }
 
+/// A list of `[x1, y1, x2, y2]` lines.
+fn lines4(v: &Value) -> Vec<[[f64; 2]; 2]> {
+    v.as_array().unwrap().iter().map(line4).collect()
+}
+
 fn ends_as_junctions(l: &mut Labelled) {
     l.junctions = l.lines.iter().flatten().copied().collect();
 }
@@ -188,12 +180,7 @@ fn read_lcnn(root: &Path) -> Vec<Labelled> {
     for (file, train) in [("train.json", true), ("valid.json", false)] {
         for item in read_json(&root.join(file)).as_array().unwrap() {
             let mut l = common(root, "images", item, train, "filename");
-            l.lines = item["lines"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(line4)
-                .collect();
+            l.lines = lines4(&item["lines"]);
             l.border = item["line_border"]
                 .as_array()
                 .unwrap()
@@ -250,16 +237,9 @@ fn read_letr(root: &Path) -> Vec<Labelled> {
     out
 }
 
+/// Distance (px) from `p` to the segment `s`, in the exported formats' plain arrays.
 fn distance_to_segment(p: [f64; 2], s: [[f64; 2]; 2]) -> f64 {
-    let d = [s[1][0] - s[0][0], s[1][1] - s[0][1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 == 0.0 {
-        0.0
-    } else {
-        (((p[0] - s[0][0]) * d[0] + (p[1] - s[0][1]) * d[1]) / len2).clamp(0.0, 1.0)
-    };
-    let q = [s[0][0] + t * d[0], s[0][1] + t * d[1]];
-    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
+    common::distance_to_segment(p.into(), s[0].into(), s[1].into())
 }
 
 fn close(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
@@ -456,12 +436,9 @@ fn check_geometry(dataset: &Path, l: &Labelled) {
 
 #[test]
 fn every_format_reads_back_flipped_split_by_scene_and_on_the_drawing() {
-    if !renderer_available() {
+    let Some((tmp, ds)) = rendered_dataset(8, 5, Some("200x160")) else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let ds = tmp.path().join("ds");
-    dataset(&ds, 8);
+    };
     for (format, reader, rgb) in [
         ("hawp", read_hawp as fn(&Path) -> Vec<Labelled>, true),
         ("lcnn", read_lcnn, false),
@@ -492,12 +469,9 @@ fn every_format_reads_back_flipped_split_by_scene_and_on_the_drawing() {
 
 #[test]
 fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes_on_any_jobs() {
-    if !renderer_available() {
+    let Some((tmp, ds)) = rendered_dataset(3, 5, Some("200x160")) else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let ds = tmp.path().join("ds");
-    dataset(&ds, 3);
+    };
     let out = tmp.path().join("hawp");
     ok(export(&ds, "hawp", &out, &[]));
     let train = std::fs::read(out.join("train.json")).unwrap();
@@ -601,24 +575,9 @@ fn outside_ends_of_crossing_lines(drawing: &[[[f64; 2]; 2]], w: f64, h: f64) -> 
 /// crossing the picture, and every check of the unclipped export holds too.
 #[test]
 fn scenes_running_off_the_picture_clip_to_the_border_with_marked_ends() {
-    if !renderer_available() {
+    let Some((tmp, ds)) = rendered_dataset(4, 5, Some("240x200")) else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let ds = tmp.path().join("ds");
-    ok(blockworld([
-        "generate",
-        "--count",
-        "4",
-        "--seed",
-        "5",
-        "--jobs",
-        "1",
-        "--size",
-        "240x200",
-        "-o",
-        ds.to_str().unwrap(),
-    ]));
+    };
     cut_views(&ds, 60, 160, 130);
     for (format, reader) in [
         ("hawp", read_hawp as fn(&Path) -> Vec<Labelled>),
@@ -712,22 +671,9 @@ fn overlay(l: &Labelled) -> image::RgbImage {
 /// the reader above; compared byte for byte (renderer-bound like the goldens, docs/rendering.md "Golden images"); re-bless with `BLESS=1 cargo test --test export_dataset`.
 #[test]
 fn the_readme_overlay_is_what_the_reader_draws() {
-    if !renderer_available() {
+    let Some((tmp, ds)) = rendered_dataset(12, 7, None) else {
         return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let ds = tmp.path().join("ds");
-    ok(blockworld([
-        "generate",
-        "--count",
-        "12",
-        "--seed",
-        "7",
-        "--jobs",
-        "1",
-        "-o",
-        ds.to_str().unwrap(),
-    ]));
+    };
     let out = tmp.path().join("hawp");
     ok(export(&ds, "hawp", &out, &[]));
     let set = read_hawp(&out);

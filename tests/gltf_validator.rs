@@ -145,7 +145,7 @@ fn generate_gltf_writes_a_valid_glb_per_scene_listed_in_the_manifest() {
         common::blockworld(&args)
     };
     let o = run(&["--gltf"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
     let mut files = Vec::new();
     for line in manifest.lines() {

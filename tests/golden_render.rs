@@ -13,7 +13,7 @@ use blockworld::render::{
     Backend, RenderError, RenderOptions, RenderedView, Renderer, BACKGROUND_LEVEL, SEAM_LEVEL,
 };
 use blockworld::scene::{read_scene, Block, Scene};
-use common::{compare_golden, renderer, Tolerance};
+use common::{compare_golden, distance_to_segment, renderer, Tolerance};
 use rayon::prelude::*;
 
 /// Golden tolerance: exact. lavapipe renders bit-identically from run to run, across debug and
@@ -67,12 +67,6 @@ fn inside_margin(poly: &[DVec2], p: DVec2) -> f64 {
             sign * (b - a).perp_dot(p - a) / (b - a).length()
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-fn dist_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-    p.distance(a + d * t)
 }
 
 /// Convex hull (counter-clockwise) of picture points.
@@ -278,7 +272,7 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
                 let p = centre(h, x, row);
                 let d = visible
                     .iter()
-                    .map(|(s, e)| dist_to_segment(p, *s, *e))
+                    .map(|(s, e)| distance_to_segment(p, *s, *e))
                     .fold(f64::INFINITY, f64::min);
                 // At most 1 px: the crack is a silhouette edge of the block whose inner face
                 // turns away, which also darkens the nearest pixel on its side
@@ -306,8 +300,8 @@ fn crack_between_two_b15_shows_a_seam_and_one_b30_does_not() {
                 let nearest = (x0 - 1..=x0 + 1)
                     .flat_map(|x| (r0 - 1..=r0 + 1).map(move |r| (x, r)))
                     .min_by(|u, v| {
-                        let du = dist_to_segment(centre(h, u.0, u.1), *s, *e);
-                        let dv = dist_to_segment(centre(h, v.0, v.1), *s, *e);
+                        let du = distance_to_segment(centre(h, u.0, u.1), *s, *e);
+                        let dv = distance_to_segment(centre(h, v.0, v.1), *s, *e);
                         du.total_cmp(&dv)
                     })
                     .unwrap();

@@ -3,6 +3,7 @@
 //! failure that once passed with a panic, `null` in the output or a misleading message.
 
 mod common;
+use common::run::blockworld_to_full_stdout;
 use common::{blockworld, command, fails_with_2, stderr};
 
 use std::path::{Path, PathBuf};
@@ -26,17 +27,8 @@ fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
 /// full stdout; it must be an error with exit 2.
 #[test]
 fn full_stdout_is_an_error_with_exit_2() {
-    let full = std::fs::OpenOptions::new()
-        .write(true)
-        .open("/dev/full")
-        .expect("/dev/full exists on Linux");
     let two = scene("two_layer.json");
-    let o = command()
-        .args(["score", &two, &two])
-        .stdout(full)
-        .output()
-        .unwrap();
-    let err = fails_with_2(&o);
+    let err = fails_with_2(&blockworld_to_full_stdout(["score", &two, &two]));
     assert!(err.contains("writing to stdout"), "{err}");
 }
 
@@ -75,7 +67,7 @@ fn headless_render_prints_no_spurious_errors() {
         .env_remove("NODEVICE_SELECT")
         .output()
         .unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::ok(&o);
     assert_eq!(stderr(&o), "", "nothing on stderr on success");
 }
 
@@ -200,7 +192,7 @@ fn edges_refuses_a_non_png_output_name() {
     assert!(!jpg.exists());
     let png = dir.path().join("e.png");
     let o = blockworld(["edges", pic.to_str().unwrap(), "-o", png.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::ok(&o);
     assert!(png.exists());
 }
 
@@ -224,7 +216,7 @@ fn generate_errors_carry_their_own_fix() {
     assert!(err.contains("--count must be at least 1"), "{err}");
     assert!(!err.contains("disk space"), "{err}");
     let o = generate(&ds, &["--count", "2", "--seed", "1"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::ok(&o);
     let err = fails_with_2(&generate(&ds, &["--count", "2", "--seed", "2"]));
     assert!(
         err.contains("other options") && err.contains("seed"),
@@ -395,23 +387,20 @@ fn noise_pictures_are_refused_with_the_edge_cap() {
 /// full stdout (exit 101); the binary's panic hook turns that into exit 2 with the error.
 #[test]
 fn println_on_a_full_stdout_still_exits_2() {
-    let full = std::fs::OpenOptions::new()
-        .write(true)
-        .open("/dev/full")
-        .unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let root = common::root();
-    let o = command()
-        .args(["bench", "accuracy", "--recognizer"])
-        .arg(root.join("golden/recon_reference"))
-        .arg("--suite")
-        .arg(root.join("scenes/bench"))
-        .arg("--json-out")
-        .arg(dir.path().join("a.json"))
-        .stdout(full)
-        .output()
-        .unwrap();
-    let err = fails_with_2(&o);
+    let json = dir.path().join("a.json");
+    let err = fails_with_2(&blockworld_to_full_stdout([
+        "bench",
+        "accuracy",
+        "--recognizer",
+        &common::root()
+            .join("golden/recon_reference")
+            .to_string_lossy(),
+        "--suite",
+        &scene("bench"),
+        "--json-out",
+        json.to_str().unwrap(),
+    ]));
     assert!(err.contains("writing to stdout"), "{err}");
 }
 

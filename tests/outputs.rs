@@ -83,7 +83,7 @@ fn an_output_that_is_an_input_is_refused() {
     let d = dir.path().to_string_lossy().into_owned();
     let args = ["recognize", &d, "--from-truth", "--views", "ne", "-o"];
     let err = fails_with_2(&blockworld(
-        &[&args[..], &[&*lines.to_string_lossy()]].concat(),
+        [&args[..], &[&*lines.to_string_lossy()]].concat(),
     ));
     assert!(err.contains("is the input"), "{err}");
     assert_eq!(std::fs::read(&lines).unwrap(), before);
@@ -135,12 +135,7 @@ fn result_lines_go_to_stdout() {
         vec!["vertices", &view, "--camera", &camera, "-o", &out],
     ];
     for args in runs {
-        let full = std::fs::OpenOptions::new()
-            .write(true)
-            .open("/dev/full")
-            .unwrap();
-        let o = common::command().args(&args).stdout(full).output().unwrap();
-        let err = fails_with_2(&o);
+        let err = fails_with_2(&common::run::blockworld_to_full_stdout(&args));
         assert!(err.contains("writing to stdout"), "{args:?}: {err}");
     }
 }

@@ -8,6 +8,7 @@
 //! `DOWNSAMPLE` and `ONLY=s000003,s000004` as the names say).
 
 mod common;
+use common::same_blocks;
 
 use blockworld::camera::CornerView;
 use blockworld::drawing::LineDrawing;
@@ -20,14 +21,9 @@ use blockworld::render::{Look, RenderOptions};
 use blockworld::scene::{read_scene, ReconStatus};
 use blockworld::vision::VisionOptions;
 
-fn same_blocks(a: &[blockworld::scene::Block], b: &[blockworld::scene::Block]) -> bool {
-    a.len() == b.len()
-        && b.iter().all(|t| {
-            a.iter().any(|x| {
-                x.block_type.id == t.block_type.id && x.center_mm.distance(t.center_mm) < 1.0
-            })
-        })
-}
+/// How far (mm) an answer's corners may lie from the truth's for the breakdown to call it the
+/// truth's block.
+const SAME_CORNER_MM: f64 = 1.0;
 
 fn line_text(d: &LineDrawing, k: usize, pic: &ViewPicture) -> String {
     let [i, j] = d.lines[k];
@@ -106,8 +102,10 @@ fn photo_declines_broken_down() {
         let pictures: Vec<_> = rendered.iter().map(|r| &r.gray).collect();
         let plain = recognize(&views, &opts).unwrap();
         let with = recognize_in_pictures(&views, &pictures, &opts).unwrap();
-        let ok_plain = plain.status == ReconStatus::Ok && same_blocks(&plain.blocks, &scene.blocks);
-        let ok_with = with.status == ReconStatus::Ok && same_blocks(&with.blocks, &scene.blocks);
+        let ok_plain = plain.status == ReconStatus::Ok
+            && same_blocks(&plain.blocks, &scene.blocks, SAME_CORNER_MM);
+        let ok_with = with.status == ReconStatus::Ok
+            && same_blocks(&with.blocks, &scene.blocks, SAME_CORNER_MM);
         exact_plain += usize::from(ok_plain);
         exact_pictures += usize::from(ok_with);
         if with.status == ReconStatus::Ok && !ok_with {
@@ -120,7 +118,7 @@ fn photo_declines_broken_down() {
         if ok_plain && ok_with {
             continue;
         }
-        let hyp_truth = same_blocks(&with.evidence.hypothesis, &scene.blocks);
+        let hyp_truth = same_blocks(&with.evidence.hypothesis, &scene.blocks, SAME_CORNER_MM);
         // What a wrong answer's check forgave, else what refuses the truth.
         let shown = if with.status == ReconStatus::Ok && !ok_with {
             println!("   (below: the wrong answer's features)");
@@ -141,7 +139,7 @@ fn photo_declines_broken_down() {
         };
         let differs = |a: &[blockworld::scene::Block], b: &[blockworld::scene::Block]| {
             a.iter()
-                .filter(|x| !b.iter().any(|t| same_blocks(&[**x], &[*t])))
+                .filter(|x| !b.iter().any(|t| same_blocks(&[**x], &[*t], SAME_CORNER_MM)))
                 .map(describe)
                 .collect::<Vec<_>>()
         };

@@ -244,7 +244,7 @@ fn bench_render_photo_parts_prints_a_row_per_size_and_refuses_photo_only_beside_
     };
     let o = run(&["--photo-parts"]);
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let rows: Vec<&str> = out
         .lines()
         .filter(|l| l.starts_with("| 1 |") || l.starts_with("| 3 |"))

@@ -264,24 +264,21 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
     let dir = tmp.join("s000014");
     write_truth_dir(&truth, &dir);
     let out = tmp.join("recon.json");
-    let run = |args: &[&str]| common::blockworld(args);
+    let (dir_s, out_s) = (dir.to_str().unwrap(), out.to_str().unwrap());
+    let recognize = |extra: &[&str]| {
+        common::blockworld(
+            ["recognize", dir_s, "-o", out_s, "--from-truth"]
+                .iter()
+                .chain(extra),
+        )
+    };
     let debug = tmp.join("debug");
-    let ok = run(&[
-        "recognize",
-        dir.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--from-truth",
+    common::ok(recognize(&[
         "--views",
         "ne,sw",
         "--debug-dir",
         debug.to_str().unwrap(),
-    ]);
-    assert!(
-        ok.status.success(),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    ]));
     // The thesis's intermediate files: Figure A.6 per view, the parallelograms, the layers.
     let six_bit = std::fs::read_to_string(debug.join("six_bit_ne.txt")).unwrap();
     assert!(
@@ -295,17 +292,7 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
         .unwrap()
         .contains("status Ok"));
     let first = std::fs::read(&out).unwrap();
-    assert!(run(&[
-        "recognize",
-        dir.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--from-truth",
-        "--views",
-        "ne,sw",
-    ])
-    .status
-    .success());
+    common::ok(recognize(&["--views", "ne,sw"]));
     assert_eq!(
         std::fs::read(&out).unwrap(),
         first,
@@ -319,15 +306,7 @@ fn the_cli_writes_a_scored_reconstruction_and_names_a_missing_file() {
         Verdict::Exact
     );
     std::fs::remove_file(dir.join("lines_sw.json")).unwrap();
-    let bad = run(&[
-        "recognize",
-        dir.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--from-truth",
-    ]);
-    assert_eq!(bad.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&bad.stderr);
+    let err = common::fails_with_2(&recognize(&[]));
     assert!(err.contains("lines_sw.json"), "{err}");
     std::fs::remove_dir_all(&tmp).unwrap();
 }

@@ -32,7 +32,7 @@ fn render_writes_five_files_per_view_deterministically() {
             "-o",
             out.to_str().unwrap(),
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        common::ok(&o);
         String::from_utf8(o.stdout).unwrap()
     };
     let printed_a = run(&out_a);
@@ -106,7 +106,7 @@ fn render_options_reach_the_picture() {
         "--seed",
         "9",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     assert_eq!(file_names(tmp.path()).len(), 5);
     let gray = image::open(tmp.path().join("view_sw.png"))
         .unwrap()
@@ -169,7 +169,7 @@ fn demo_renders_the_thesis_sample_and_summarises_each_view() {
         .current_dir(common::root())
         .output()
         .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let printed = String::from_utf8(o.stdout).unwrap();
     assert!(printed.contains("thesis_sample (5 blocks)"), "{printed}");
     assert!(printed.contains("settle: stable"), "{printed}");

@@ -10,7 +10,7 @@ use blockworld::scene::{read_scene, Block, Scene};
 use image::GrayImage;
 
 mod common;
-use common::renderer;
+use common::{distance_to_segment, renderer};
 
 /// Two neighbouring pixels whose gray levels differ by at least this are an intensity edge.
 const EDGE_STEP: i16 = 8;
@@ -45,18 +45,6 @@ fn edge_pixels(img: &GrayImage) -> Vec<(u32, u32)> {
 /// Picture coordinates (x right, y up) of a raster pixel's centre.
 fn centre(x: u32, row: u32, h: u32) -> (f64, f64) {
     (x as f64 + 0.5, h as f64 - row as f64 - 0.5)
-}
-
-fn dist_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 == 0.0 {
-        0.0
-    } else {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
-    };
-    let (qx, qy) = (a.0 + t * dx, a.1 + t * dy);
-    ((p.0 - qx).powi(2) + (p.1 - qy).powi(2)).sqrt()
 }
 
 fn segments(d: &LineDrawing) -> Vec<((f64, f64), (f64, f64))> {
@@ -116,7 +104,7 @@ fn check_view(img: &GrayImage, drawing: &LineDrawing) -> Vec<String> {
             let c = centre(x, y, h);
             !segs
                 .iter()
-                .any(|&(a, b)| dist_to_segment(c, a, b) <= EXPLAINED_PX)
+                .any(|&(a, b)| distance_to_segment(c.into(), a.into(), b.into()) <= EXPLAINED_PX)
         })
         .collect();
     if !unexplained.is_empty() {

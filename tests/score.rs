@@ -22,9 +22,7 @@ const TRUTH: &str = r#"{"name": "two_layer", "expect": {"supported": true},
 fn score_against_truth(dir: &Path, recon: &str, extra: &[&str]) -> std::process::Output {
     let truth = write(dir, "truth.json", TRUTH);
     let recon = write(dir, "recon.json", recon);
-    let mut args = vec!["score", truth.as_str(), recon.as_str()];
-    args.extend_from_slice(extra);
-    blockworld(&args)
+    blockworld(["score", &truth, &recon].iter().chain(extra))
 }
 
 #[test]
@@ -32,11 +30,7 @@ fn identical_scene_scores_exact_in_json() {
     let dir = tempfile::tempdir().unwrap();
     let truth = write(dir.path(), "truth.json", TRUTH);
     let out = blockworld(["score", &truth, &truth, "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::ok(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["verdict"], "exact");
     assert!((v["iou"].as_f64().unwrap() - 1.0).abs() < 1e-9);
@@ -57,11 +51,7 @@ fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
              {"type": "b15", "center": [7.5, 22.5, 0]}]}"#,
         &[],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::ok(&out);
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("verdict                partial"), "{table}");
     assert!(table.contains("3 of 3 truth, 4 recon"), "{table}");
@@ -86,11 +76,7 @@ fn a_missing_block_lowers_the_detection_recall_in_json() {
              {"type": "b15", "center": [-7.5, 22.5, 0]}]}"#,
         &["--json"],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::ok(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let d = &v["detection"];
     assert_eq!(
@@ -108,13 +94,12 @@ fn a_missing_block_lowers_the_detection_recall_in_json() {
 #[test]
 fn unsupported_reconstruction_gives_the_unsupported_verdict() {
     let dir = tempfile::tempdir().unwrap();
-    let truth = write(dir.path(), "truth.json", TRUTH);
-    let recon = write(
+    let out = score_against_truth(
         dir.path(),
-        "recon.json",
         r#"{"name": "r", "status": "unsupported", "reason": "upper layer larger", "blocks": []}"#,
+        &["--json"],
     );
-    let out = blockworld(["score", &truth, &recon, "--json"]);
+    common::ok(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["verdict"], "unsupported");
     assert_eq!(v["reason"], "upper layer larger");
@@ -150,26 +135,21 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     let root = env!("CARGO_MANIFEST_DIR");
     let dir = tempfile::tempdir().unwrap();
     let json_out = dir.path().join("acc.json").display().to_string();
-    let out = common::command()
-        .current_dir(root)
-        .args([
-            "bench",
-            "accuracy",
-            "--recognizer",
-            "golden/recon_reference",
-            "--json-out",
-            &json_out,
-            "--golden",
-            "golden/scorer_reference.json",
-        ])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let accuracy = |recognizer: &str| {
+        common::command()
+            .current_dir(root)
+            .args([
+                "bench",
+                "accuracy",
+                "--recognizer",
+                recognizer,
+                "--json-out",
+            ])
+            .args([&json_out, "--golden", "golden/scorer_reference.json"])
+            .output()
+            .unwrap()
+    };
+    let stdout = common::ok(accuracy("golden/recon_reference"));
     assert!(
         stdout.contains("family")
             && stdout.contains("mean IoU")
@@ -187,20 +167,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     assert!(v["scenes"].as_array().unwrap().len() >= 12);
     // An empty recognizer directory: every scene fails, supported ones stop being recognized.
     let empty = tempfile::tempdir().unwrap();
-    let out = common::command()
-        .current_dir(root)
-        .args([
-            "bench",
-            "accuracy",
-            "--recognizer",
-            &empty.path().display().to_string(),
-            "--json-out",
-            &json_out,
-            "--golden",
-            "golden/scorer_reference.json",
-        ])
-        .output()
-        .unwrap();
+    let out = accuracy(&empty.path().display().to_string());
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("no longer recognized"));
 }

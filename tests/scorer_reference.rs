@@ -8,6 +8,9 @@
 //! review the diff of `golden/scorer_reference.json`. The reference set is regenerated with
 //! `cargo run -- bench accuracy --make-reference golden/recon_reference`.
 
+mod common;
+use common::{json_files, stem};
+
 use blockworld::scene::{
     read_reconstruction, read_scene, reconstruction_to_json, Block, ReconStatus, Reconstruction,
     Scene,
@@ -16,7 +19,7 @@ use blockworld::score::{
     check_gate, make_reference_reconstructions, score_suite_scene, GateFailure, Golden,
     NoReconstruction, SceneResult, ScoreOptions, Verdict,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 const SUITE_DIR: &str = "scenes/bench";
 const REFERENCE_DIR: &str = "golden/recon_reference";
@@ -24,21 +27,7 @@ const GOLDEN: &str = "golden/scorer_reference.json";
 const BLESS: &str = "BLESS=1 cargo test --test scorer_reference";
 
 fn root(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
-
-fn json_files(dir: &Path) -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    paths.sort();
-    paths
-}
-
-fn stem(p: &Path) -> String {
-    p.file_stem().unwrap().to_string_lossy().into_owned()
+    common::root().join(rel)
 }
 
 fn suite() -> Vec<(String, Scene)> {

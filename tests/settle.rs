@@ -32,11 +32,7 @@ fn a_stable_scene_is_written_and_settling_again_changes_nothing() {
     );
     std::fs::write(&input, STABLE).unwrap();
     let out = settle(&input, &once, &[]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::ok(&out);
     let settled = blockworld::scene::read_scene(&once).unwrap();
     let intended = blockworld::scene::read_scene(&input).unwrap();
     for (a, b) in settled.blocks.iter().zip(&intended.blocks) {
@@ -76,11 +72,7 @@ fn an_unstable_scene_fails_names_the_block_and_writes_nothing() {
     );
 
     let out = settle(&input, &output, &["--allow-drift"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::ok(&out);
     let text = std::fs::read_to_string(&output).unwrap();
     let drifted: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(drifted["meta"]["settle"]["stable"], false);

@@ -3,6 +3,9 @@
 //! the contact tolerance on perturbed poses, a hand-made non-cuboid block, a perspective camera,
 //! and an independent brute-force ray-cast validator on random stacks.
 
+mod common;
+use common::distance_to_segment;
+
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::{Junction, LineDrawing, LineKind};
 use blockworld::geom::{DQuat, DVec2, DVec3};
@@ -505,12 +508,6 @@ fn occlusion_mm(planes: &[Vec<(DVec3, f64)>], cam: &Camera, p: DVec3) -> f64 {
     let d = (p - o).normalize();
     let t_p = (p - o).length();
     (t_p - first_hit_t(planes, o, d)).max(0.0)
-}
-
-fn distance_to_segment(q: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let t = ((q - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-    q.distance(a + ab * t)
 }
 
 /// Disagreements between the drawing and ray casting: (1) a visible sample of any block edge

@@ -59,7 +59,7 @@ fn exported_data_files_are_read_back_by_view_and_score() {
     let sample = common::root().join("scenes/thesis_sample.json");
     let prefix = tmp.path().join("sample");
     let o = blockworld(["export", s(&sample), "--format", "thesis", "-o", s(&prefix)]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let vertices = std::fs::read_to_string(tmp.path().join("sample_vertices.txt")).unwrap();
     assert_eq!(
         vertices.lines().nth(1),
@@ -75,13 +75,13 @@ fn exported_data_files_are_read_back_by_view_and_score() {
     );
     let png = tmp.path().join("v.png");
     let o = blockworld(["view", s(&prefix), "-o", s(&png), "--world"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("5 blocks") && out.contains("  40 "), "{out}");
     // Scoring the data files against themselves: a perfect match.
     let vp = tmp.path().join("sample_vertices.txt");
     let o = blockworld(["score", s(&vp), s(&prefix), "--json"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let score: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(
         (score["iou"].as_f64().unwrap() - 1.0).abs() < 1e-6,
@@ -110,7 +110,7 @@ fn an_overlay_draws_truth_and_reconstruction_in_two_colours() {
         "--hidden-lines",
         "remove",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let img = image::open(&png).unwrap().into_rgb8();
     let count = |c: [u8; 3]| img.pixels().filter(|p| p.0 == c).count();
     assert!(count([30, 90, 220]) > 100, "truth lines in blue");
@@ -131,7 +131,7 @@ fn shaded_viewports_and_svg_are_written() {
         "--viewports",
         "4",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let img = image::open(&png).unwrap().into_rgb8();
     let gray_fill = img
         .pixels()
@@ -143,7 +143,7 @@ fn shaded_viewports_and_svg_are_written() {
     );
     let svg = tmp.path().join("s.svg");
     let o = blockworld(["view", s(&sample), "-o", s(&svg), "--up", "2,1,3"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::ok(&o);
     let text = std::fs::read_to_string(&svg).unwrap();
     assert_eq!(text.matches("<line ").count(), 60);
     assert!(text.contains("UP 2.0 1.0 3.0"));

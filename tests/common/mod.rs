@@ -1,12 +1,15 @@
-//! Helpers shared by the integration tests: the one runner of the `blockworld` binary
-//! ([`run`]), the GPU-skip rule and golden-image comparison
+//! Code shared by the integration tests: the one runner of the `blockworld` binary
+//! ([`run`]), the GPU-skip rule, picture and block geometry ([`geometry`]) and golden-image
+//! comparison
 //! (style guide §4: share of differing pixels + maximum absolute difference, statistics printed
 //! whether the check passes or not, a missing golden fails and names the bless command).
 
 #![allow(dead_code, unused_imports)]
 
+pub mod geometry;
 pub mod run;
 
+pub use geometry::{distance_to_segment, same_blocks};
 pub use run::{blockworld, command, fails_with_2, ok, stderr};
 
 use blockworld::render::{Backend, Renderer};
@@ -26,6 +29,11 @@ pub fn renderer() -> Option<Renderer> {
         }
         Err(e) => panic!("BLOCKWORLD_REQUIRE_GPU is set but the renderer cannot start: {e}"),
     }
+}
+
+/// Whether the renderer starts, after the same loud skip or failure as [`renderer`].
+pub fn renderer_available() -> bool {
+    renderer().is_some()
 }
 
 /// The repository root.

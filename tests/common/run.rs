@@ -20,8 +20,8 @@ pub const SCALE_OUT_VARIABLES: [&str; 5] = [
 
 /// The binary as a command without arguments, for tests that need raw control (stdin, stdout,
 /// `spawn`, extra variables, another working directory). The scale-out variables are removed
-/// and `XDG_RUNTIME_DIR` is set, so a run inside a batch job or a container behaves as one in a
-/// login session.
+/// and `XDG_RUNTIME_DIR` is set, so a run inside a batch job or a container behaves as one at a
+/// desktop.
 pub fn command() -> Command {
     let mut c = Command::new(BIN);
     for v in SCALE_OUT_VARIABLES {
@@ -44,7 +44,8 @@ where
 }
 
 /// The inherited `XDG_RUNTIME_DIR` when it is a directory, else a private one under cargo's
-/// temporary folder for integration tests (made with mode 0700, as a session's is).
+/// temporary folder for integration tests (mode 0700, as the XDG Base Directory
+/// specification asks of it).
 fn runtime_dir() -> PathBuf {
     if let Some(d) = std::env::var_os("XDG_RUNTIME_DIR").map(PathBuf::from) {
         if d.is_dir() {
@@ -65,12 +66,13 @@ pub fn stderr(o: &Output) -> String {
 }
 
 /// Asserts the run succeeded (printing both streams when not) and returns its stdout.
-pub fn ok(o: Output) -> String {
+pub fn ok(o: impl std::borrow::Borrow<Output>) -> String {
+    let o = o.borrow();
     assert!(
         o.status.success(),
         "stdout: {}\nstderr: {}",
         String::from_utf8_lossy(&o.stdout),
-        stderr(&o)
+        stderr(o)
     );
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
@@ -81,4 +83,22 @@ pub fn fails_with_2(o: &Output) -> String {
     assert_eq!(o.status.code(), Some(2), "stderr: {err}");
     assert!(!err.contains("panicked"), "{err}");
     err
+}
+
+/// Runs the binary with `args` and its stdout on `/dev/full`, where every write fails with
+/// "No space left on device".
+pub fn blockworld_to_full_stdout<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<OsStr>,
+{
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full exists on Linux");
+    command()
+        .args(args)
+        .stdout(full)
+        .output()
+        .expect("runs the blockworld binary")
 }
