@@ -515,6 +515,96 @@ fn a_damaged_dataset_is_refused_and_a_rerun_resumes_to_the_same_bytes_on_any_job
     assert!(!fresh.join("train.json").exists() && !fresh.join("valid.json").exists());
 }
 
+/// Every temporary file (`.<name>.tmp.<pid>.<random>`) under `dir`, as paths relative to it.
+fn temporaries(dir: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if e.path().is_dir() {
+                stack.push(e.path());
+            } else if name.starts_with('.') && name.contains(".tmp.") {
+                found.push(e.path().strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+/// Regression: a resumed export kept the empty temporary files an export killed with SIGKILL
+/// left beside its pictures and part files (its real files were byte-identical, its tree not);
+/// the resume removes them as `generate` does, and the tree equals an uninterrupted export's.
+#[test]
+fn a_resumed_export_removes_a_killed_runs_temporary_files() {
+    let Some((tmp, ds)) = rendered_dataset(2, 5, Some("200x160")) else {
+        return;
+    };
+    let out = tmp.path().join("hawp");
+    ok(export(&ds, "hawp", &out, &[]));
+    // What a run killed mid-write leaves: empty temporaries of a picture, a part file, an
+    // annotation file and the stamp, and the scene's part file not yet renamed into place.
+    let left = [
+        "images/.s000001_ne.png.tmp.4242.00000000deadbeef",
+        ".parts/.s000001.json.tmp.4242.0000000000c0ffee",
+        ".train.json.tmp.4242.0000000000000001",
+        ".export.json.tmp.4242.0000000000000002",
+    ];
+    for name in left {
+        std::fs::write(out.join(name), b"").unwrap();
+    }
+    std::fs::remove_file(out.join(".parts/s000001.json")).unwrap();
+    assert_eq!(temporaries(&out).len(), left.len());
+    let stdout = ok(export(&ds, "hawp", &out, &[]));
+    assert!(stdout.contains("(1 kept from an earlier run)"), "{stdout}");
+    assert_eq!(temporaries(&out), Vec::<PathBuf>::new());
+    assert!(out.join(".parts/s000001.json").exists());
+    assert!(
+        !out.join(".lock").exists(),
+        "the lock file is removed when done"
+    );
+}
+
+/// Regression: export-dataset took no lock, so two exports into one OUT could delete each
+/// other's temporary files; a second writer is refused with exit 2, naming the holder and the
+/// fix, and writes nothing.
+#[test]
+fn a_second_export_into_the_same_folder_is_refused() {
+    let Some((tmp, ds)) = rendered_dataset(1, 5, Some("200x160")) else {
+        return;
+    };
+    let out = tmp.path().join("lcnn");
+    std::fs::create_dir_all(&out).unwrap();
+    // Another writer holds the folder's lock (flock(1) takes it as `generate` and an export
+    // do) until the file `held` is removed.
+    let held = tmp.path().join("held");
+    let script = format!(
+        "touch {0}; while [ -e {0} ]; do sleep 0.05; done",
+        held.display()
+    );
+    let mut holder = std::process::Command::new("flock")
+        .args(["--exclusive", out.join(".lock").to_str().unwrap()])
+        .args(["sh", "-c", &script])
+        .spawn()
+        .expect("flock(1) from util-linux");
+    while !held.exists() {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let refused = export(&ds, "lcnn", &out, &[]);
+    std::fs::remove_file(&held).unwrap();
+    assert!(holder.wait().unwrap().success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("is locked") && err.contains("another -o"),
+        "{err}"
+    );
+    assert!(!out.join("train.json").exists() && !out.join("export.json").exists());
+    // With the holder gone the same export runs.
+    ok(export(&ds, "lcnn", &out, &[]));
+}
+
 /// Cuts every view of a generated dataset to the window `x0..x0 + w`, raster rows `0..h` of its
 /// picture: the same orthographic camera with a smaller picture, whose blocks now run off it.
 /// The picture is cropped, the drawing's points moved by `(-x0, -(H - h))` (picture px, y up,

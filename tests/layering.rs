@@ -25,7 +25,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "dataset",
         &[
-            "scene", "physics", "render", "output", "drawing", "camera", "io", "geom",
+            "scene", "physics", "render", "output", "drawing", "camera", "io", "geom", "export",
+            "vision",
         ],
     ),
     (

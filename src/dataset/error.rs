@@ -71,6 +71,22 @@ pub enum DatasetError {
         /// Who holds it ("pid P on host H").
         holder: String,
     },
+    /// Another `export-dataset` is writing this output folder.
+    #[error("{path} is locked: another `blockworld export-dataset` ({holder}) is writing this folder; wait for it to finish, or export into another -o", path = path.display())]
+    ExportLocked {
+        /// The lock file.
+        path: PathBuf,
+        /// Who holds it ("pid P on host H").
+        holder: String,
+    },
+    /// A dataset file (read by an export) that is missing, damaged or unreadable.
+    #[error("{path}: {message}", path = path.display())]
+    Input {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
     /// Views requested but no renderer given.
     #[error(
         "views were requested but no renderer is available; pass --views \"\" for scene.json only"

@@ -1,11 +1,12 @@
 //! Synthetic datasets (docs/datasets.md "Settling"): seeded scene families (Chapter VII's supported cases and its
 //! named failures), settled with `physics`, rendered with `render`, written one folder per
 //! scene with a manifest of sha256 hashes, sliced into shards for Slurm or Kubernetes, resumed
-//! after an interruption and merged.
+//! after an interruption and merged; and a dataset's line drawings exported as wireframe
+//! training sets (`wireframe`).
 //!
 //! Determinism: a scene's content depends only on its own seed, derived from (dataset seed,
 //! scene index), never on `--jobs` or the shard, so every way of producing a dataset gives the
-//! same bytes. `writer` is the only part that does file I/O.
+//! same bytes. `writer` and `wireframe` are the parts that do file I/O.
 
 mod error;
 mod families;
@@ -15,6 +16,7 @@ mod manifest;
 mod memory;
 mod placement;
 mod shard;
+mod wireframe;
 mod writer;
 
 pub use error::DatasetError;
@@ -23,6 +25,7 @@ pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpe
 pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 pub use memory::keep_freed_pictures_in_heap;
 pub use shard::{Shard, ShardError};
+pub use wireframe::{export_wireframes, WireframeExportOptions, WireframeExportSummary};
 pub use writer::{
     generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,
     MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE,

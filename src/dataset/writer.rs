@@ -120,7 +120,7 @@ struct SceneOutcome {
     generated: Option<(StageTimes, u32, u32)>,
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
+pub(super) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
     move |source| DatasetError::Io {
         path: path.to_path_buf(),
         source,
@@ -240,7 +240,7 @@ fn write_or_check_dataset_json(dir: &Path, opts: &DatasetOptions) -> Result<(), 
 /// Removes temporary files (`.<name>.tmp.<pid>.<random>`, see `io::temp_path`) an interrupted run left in `dir`, for every
 /// name when `only` is `None`, else for that file name only. Call it only on files this run
 /// owns: other shards may be writing beside it.
-fn remove_temporaries(dir: &Path, only: Option<&str>) -> Result<(), DatasetError> {
+pub(super) fn remove_temporaries(dir: &Path, only: Option<&str>) -> Result<(), DatasetError> {
     let entries = match std::fs::read_dir(dir) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),

@@ -51,10 +51,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "| {} | {} | {} | {} | {:.2} | {:.1} |",
             format.format().name(),
             if rgb { "rgb" } else { "gray" },
-            s.new_images,
-            s.lines,
+            s.summary.new_images,
+            s.summary.lines,
             s.wall_s,
-            s.new_images as f64 / s.wall_s.max(1e-9)
+            s.summary.new_images as f64 / s.wall_s.max(1e-9)
         );
     }
     Ok(())
