@@ -81,3 +81,74 @@ fn a_camera_that_is_not_rigid_is_refused() {
     );
     assert!(!Path::new(&out).exists());
 }
+
+/// Regression: `bench scale --blocks 100000000` and `bench settle --grid 1000000` built their
+/// stacks and passed 10 GB of memory; a count beyond the cap (or 0, an empty table) is refused
+/// before any work, naming the flag and the bound.
+#[test]
+fn bench_block_counts_beyond_their_cap_are_refused() {
+    for (args, cap) in [
+        (["bench", "scale", "--blocks", "100000000"], "10000"),
+        (["bench", "scale", "--blocks", "10,0"], "10000"),
+        (["bench", "settle", "--grid", "1000000"], "10000"),
+        (["bench", "render", "--blocks", "1001"], "1000"),
+    ] {
+        let err = fails_with_2(&blockworld(&args));
+        assert!(
+            err.contains(&format!("--{} ", &args[2][2..]))
+                && err.contains(&format!("1 to {cap} blocks")),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// A chain of `lines` segments between seeded random points (picture px), as drawing JSON.
+fn random_chain(lines: usize, seed: u64) -> String {
+    let mut state = seed;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 10_000.0
+    };
+    let points: Vec<[f64; 2]> = (0..=lines).map(|_| [next(), next()]).collect();
+    let chain: Vec<[usize; 2]> = (0..lines).map(|i| [i, i + 1]).collect();
+    serde_json::json!({ "points": points, "lines": chain }).to_string()
+}
+
+/// Regression: `label` of 100,000 random lines ran past 60 s at 1.8 GB (each search node cost
+/// time in proportion to the drawing); it now ends with a count that names the budget that
+/// stopped it, and a drawing beyond the line limit is refused naming the file and the fix.
+#[test]
+fn label_of_a_hundred_thousand_random_lines_ends_with_its_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("chain.json");
+    std::fs::write(&path, random_chain(100_000, 7)).unwrap();
+    let o = blockworld(&[
+        "label",
+        &path.to_string_lossy(),
+        "--json",
+        "--limit",
+        "1",
+        "--time-budget-s",
+        "3",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let count = &v["report"]["count"];
+    assert_eq!(count["exact"], false, "{count}");
+    assert!(
+        count["reason"].as_str().unwrap().contains("budget"),
+        "{count}"
+    );
+    assert_eq!(v["labellings"][0].as_str().unwrap().len(), 100_000);
+
+    let big = dir.path().join("big.json");
+    std::fs::write(&big, random_chain(100_001, 7)).unwrap();
+    let err = fails_with_2(&blockworld(&["label", &big.to_string_lossy()]));
+    assert!(
+        err.contains("big.json") && err.contains("100001 lines") && err.contains("at most 100000"),
+        "{err}"
+    );
+}

@@ -29,6 +29,14 @@ pub enum KanadeError {
         /// The point.
         point: usize,
     },
+    /// More lines than the labeller takes ([`super::MAX_LABEL_LINES`]).
+    #[error("the drawing has {lines} lines, more than the {max} the labeller takes; label its parts in files of at most {max} lines (separate pieces of a drawing label independently)")]
+    TooManyLines {
+        /// Lines in the drawing.
+        lines: usize,
+        /// The most the labeller takes.
+        max: usize,
+    },
     /// A `ground` pair is not a line of the drawing.
     #[error("no line joins points {a} and {b}; ground a pair of points that a line joins")]
     NoSuchLine {

@@ -42,6 +42,6 @@ pub use truth::{
 };
 pub use waltz::{
     label_drawing, Combinations, JunctionReport, LabelOptions, LabelReport, LabellingCount,
-    Progress, SearchStats,
+    Progress, SearchStats, MAX_LABEL_LINES,
 };
 pub use words::{computer_words, ComputerWords};

@@ -17,6 +17,13 @@ use super::KanadeError;
 use crate::drawing::{Junction, LineDrawing};
 use serde::Serialize;
 
+mod search;
+
+/// The most lines [`label_drawing`] takes (docs/limits.md "Labeller"): every step before the
+/// search costs time and memory in proportion to the lines (100,000 random lines label in
+/// about a second), and a drawing beyond this is refused before any of it.
+pub const MAX_LABEL_LINES: usize = 100_000;
+
 /// How to label (`blockworld label` flags).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LabelOptions {
@@ -35,8 +42,13 @@ pub struct LabelOptions {
     /// At most this many labellings are listed (the count goes on); default 100.
     pub limit: usize,
     /// The search stops after this many nodes and reports its count as a lower bound; default
-    /// 5,000,000 (about a second in a release build).
+    /// 5,000,000 (about a second in a release build). A node costs time in proportion to its
+    /// group of junctions (at most 256 when the group is split into independent parts), never
+    /// to the drawing.
     pub node_budget: u64,
+    /// The search stops after this many seconds and reports its count as a lower bound;
+    /// default 10.
+    pub time_budget_s: f64,
 }
 
 impl Default for LabelOptions {
@@ -48,6 +60,7 @@ impl Default for LabelOptions {
             ground: Vec::new(),
             limit: 100,
             node_budget: 5_000_000,
+            time_budget_s: 10.0,
         }
     }
 }
@@ -202,8 +215,17 @@ fn full_mask(n: usize) -> Mask {
     }
 }
 
+/// The set bits of `mask`, lowest first.
 fn bits(mask: Mask) -> impl Iterator<Item = usize> {
-    (0..MAX_DOMAIN).filter(move |i| mask & (1 << i) != 0)
+    let mut rest = mask;
+    std::iter::from_fn(move || {
+        if rest == 0 {
+            return None;
+        }
+        let i = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        Some(i)
+    })
 }
 
 impl Csp {
@@ -272,6 +294,13 @@ impl Csp {
 
     /// Removes `v`'s labellings that a neighbour or an allowed set cannot match.
     fn revise(&self, dom: &mut [Mask], v: usize) -> bool {
+        let before = dom[v];
+        dom[v] = self.revised(dom, v);
+        dom[v] != before
+    }
+
+    /// `v`'s labellings that its neighbours and the allowed sets can match.
+    fn revised(&self, dom: &[Mask], v: usize) -> Mask {
         let supports: Vec<LabelSet> = self.ends[v]
             .iter()
             .map(|(line, other)| match other {
@@ -279,17 +308,17 @@ impl Csp {
                 None => self.allowed[*line],
             })
             .collect();
-        let before = dom[v];
-        for e in bits(before) {
+        let mut m = dom[v];
+        for e in bits(m) {
             let ok = self.cand[v][e]
                 .iter()
                 .zip(&supports)
                 .all(|(l, s)| s.contains(*l));
             if !ok {
-                dom[v] &= !(1 << e);
+                m &= !(1 << e);
             }
         }
-        dom[v] != before
+        m
     }
 
     /// Arc consistency from the variables in `queue` (AC-3); false when a domain empties.
@@ -386,13 +415,20 @@ fn apply_line_constraints(
 /// Labels `d` (thesis Chapter III's first step; Appendix A steps 1 and 2, and step 3's search,
 /// with its gradient check when `opts.gradient_check`): filtering, then all consistent
 /// labellings. `progress` is called
-/// every 2^14 search nodes. Errors only on a broken drawing (bad indices, a line from a point to
-/// itself, a non-finite coordinate) or a `ground` pair that is not a line.
+/// every 2^14 search nodes. Errors only on a drawing of more than [`MAX_LABEL_LINES`] lines, a
+/// broken drawing (bad indices, a line from a point to itself, a non-finite coordinate) or a
+/// `ground` pair that is not a line.
 pub fn label_drawing(
     d: &LineDrawing,
     opts: &LabelOptions,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<LabelReport, KanadeError> {
+    if d.lines.len() > MAX_LABEL_LINES {
+        return Err(KanadeError::TooManyLines {
+            lines: d.lines.len(),
+            max: MAX_LABEL_LINES,
+        });
+    }
     validate(d)?;
     let sites = junction_sites(d);
     let mut csp = Csp::build(d, &sites, opts.catalog);
@@ -438,16 +474,27 @@ pub fn label_drawing(
     })
 }
 
+/// Each point's variable, when its junction is catalogued (indexed once: looking a point up
+/// in `csp.site` for every point would cost time in the square of the drawing).
+fn variables_of_points(sites: &[JunctionSite], csp: &Csp) -> Vec<Option<usize>> {
+    let mut var_of = vec![None; sites.len()];
+    for (v, &p) in csp.site.iter().enumerate() {
+        var_of[p] = Some(v);
+    }
+    var_of
+}
+
 fn junction_reports(
     sites: &[JunctionSite],
     csp: &Csp,
     initial: &[Mask],
     dom: &[Mask],
 ) -> Vec<JunctionReport> {
+    let var_of = variables_of_points(sites, csp);
     sites
         .iter()
         .map(|s| {
-            let v = csp.site.iter().position(|&p| p == s.point);
+            let v = var_of[s.point];
             JunctionReport {
                 point: s.point,
                 junction: s.junction,
@@ -460,9 +507,10 @@ fn junction_reports(
 }
 
 fn uncatalogued(sites: &[JunctionSite], csp: &Csp) -> Vec<usize> {
+    let var_of = variables_of_points(sites, csp);
     sites
         .iter()
-        .filter(|s| !s.ends.is_empty() && !csp.site.contains(&s.point))
+        .filter(|s| !s.ends.is_empty() && var_of[s.point].is_none())
         .map(|s| s.point)
         .collect()
 }
@@ -532,41 +580,21 @@ fn groups(csp: &Csp, dom: &[Mask], candidates: &[usize]) -> Vec<Vec<usize>> {
     out
 }
 
-/// At most this many group counts are remembered per top-level group (about 100 MB at most).
-const CACHE_ENTRIES: usize = 200_000;
-
-/// The search state of one group.
-struct GroupSearch<'a> {
+/// The search state of one group of at most [`search::DECOMPOSE_MAX`] junctions.
+struct GroupSearch<'a, 'm> {
     csp: &'a Csp,
-    budget: u64,
-    stats: &'a mut SearchStats,
-    progress: &'a mut dyn FnMut(Progress),
-    group: usize,
-    groups: usize,
-    kept: Vec<Vec<Mask>>,
-    listing_cut: bool,
-    out_of_budget: bool,
+    meter: &'a mut search::Meter<'m>,
     /// Counts of groups already met, by their members' domains (a group's count depends on
     /// nothing else: its neighbours outside are decided and filtered).
     cache: std::collections::HashMap<Vec<(usize, Mask)>, u128>,
+    /// Domains held by the cache's keys.
+    cache_key_entries: usize,
 }
 
-impl GroupSearch<'_> {
-    /// Counts one search node; false when the budget is spent.
+impl GroupSearch<'_, '_> {
+    /// Counts one search node; false when a budget is spent.
     fn step(&mut self) -> bool {
-        if self.stats.nodes >= self.budget {
-            self.out_of_budget = true;
-            return false;
-        }
-        self.stats.nodes += 1;
-        if self.stats.nodes % (1 << 14) == 0 {
-            (self.progress)(Progress {
-                nodes: self.stats.nodes,
-                group: self.group,
-                groups: self.groups,
-            });
-        }
-        true
+        self.meter.step()
     }
 
     /// The domains after trying labelling `e` at `v` and propagating; `None` on a dead end.
@@ -580,11 +608,11 @@ impl GroupSearch<'_> {
             .collect();
         if self
             .csp
-            .propagate(&mut d2, queue, &mut self.stats.revisions)
+            .propagate(&mut d2, queue, &mut self.meter.stats.revisions)
         {
             Some(d2)
         } else {
-            self.stats.backtracks += 1;
+            self.meter.stats.backtracks += 1;
             None
         }
     }
@@ -658,7 +686,9 @@ impl GroupSearch<'_> {
                         total = total.saturating_add(self.count(&d2, &gs[0]));
                     }
                 }
-                if !self.out_of_budget && self.cache.len() < CACHE_ENTRIES {
+                let fits = self.cache_key_entries + key.len() <= search::CACHE_KEY_ENTRIES;
+                if self.meter.ran_out.is_none() && fits {
+                    self.cache_key_entries += key.len();
                     self.cache.insert(key, total);
                 }
                 total
@@ -670,8 +700,11 @@ impl GroupSearch<'_> {
     }
 }
 
-/// All consistent labellings after filtering: each group searched on its own, the count the
-/// product of the groups' counts, the first `limit` solutions listed in odometer order.
+/// All consistent labellings after filtering: each group searched on its own (as its own
+/// problem, `search`), the count the product of the groups' counts, the first `limit`
+/// solutions listed in odometer order. Every group's first solutions are found before any
+/// group is counted, so when a budget runs out while counting, the groups not counted still
+/// add the solutions found (the count stays a true lower bound instead of dropping to 0).
 fn enumerate(
     csp: &Csp,
     dom: &[Mask],
@@ -682,55 +715,73 @@ fn enumerate(
     let all: Vec<usize> = (0..dom.len()).collect();
     let gs = groups(csp, dom, &all);
     stats.groups = gs.len();
-    let mut count = LabellingCount {
-        value: 1,
-        exact: true,
-        reason: None,
-    };
-    let mut per_group: Vec<Vec<Vec<Mask>>> = Vec::new();
+    let mut meter = search::Meter::new(stats, progress, opts.node_budget, opts.time_budget_s);
+    meter.groups = gs.len();
+    let limit = opts.limit.max(1);
+    let mut listed = Vec::with_capacity(gs.len());
     for (g, members) in gs.iter().enumerate() {
-        let mut s = GroupSearch {
-            csp,
-            budget: opts.node_budget,
-            stats: &mut *stats,
-            progress: &mut *progress,
-            group: g,
-            groups: gs.len(),
-            kept: Vec::new(),
-            listing_cut: false,
-            out_of_budget: false,
-            cache: std::collections::HashMap::new(),
-        };
-        let limit = opts.limit.max(1);
-        let sols = s.solutions(dom, members, limit + 1);
-        s.listing_cut = sols.len() > limit;
-        s.kept = sols
-            .into_iter()
-            .take(limit)
-            .map(|d| members.iter().map(|m| d[*m]).collect())
-            .collect();
-        let found = if s.listing_cut && !s.out_of_budget {
-            s.count(dom, members)
-        } else {
-            s.kept.len() as u128
-        };
-        if s.out_of_budget && count.exact {
-            count.exact = false;
-            count.reason = Some(format!(
-                "the node budget of {} ran out in group {} of {}",
-                opts.node_budget,
-                g + 1,
-                gs.len()
-            ));
-        }
-        count.value = count.value.saturating_mul(found);
-        per_group.push(std::mem::take(&mut s.kept));
+        meter.group = g;
+        let local = csp.restrict(dom, members);
+        let sols = search_group(&local, Some(limit + 1), &mut meter).0;
+        listed.push((local, sols));
     }
+    let mut value = 1u128;
+    for (g, (local, sols)) in listed.iter().enumerate() {
+        meter.group = g;
+        let found = if sols.len() > limit && meter.ran_out.is_none() {
+            search_group(local, None, &mut meter)
+                .1
+                .max(sols.len() as u128)
+        } else {
+            sols.len() as u128
+        };
+        value = value.saturating_mul(found);
+    }
+    let mut count = LabellingCount {
+        value,
+        exact: meter.ran_out.is_none(),
+        reason: meter.ran_out.take(),
+    };
     if count.value == u128::MAX && count.exact {
         count.exact = false;
         count.reason = Some("the count exceeds 2^128".into());
     }
+    let per_group: Vec<Vec<Vec<Mask>>> = listed
+        .into_iter()
+        .map(|(_, mut sols)| {
+            sols.truncate(limit);
+            sols
+        })
+        .collect();
     (combine(dom, &gs, &per_group, opts.limit), count)
+}
+
+/// One group (`local`: restricted to it, its domains `local.unary`): its solutions in member
+/// order (at most `stop_after`, else as many as the search listed) and its count (a lower
+/// bound when the meter ran out).
+fn search_group(
+    local: &Csp,
+    stop_after: Option<usize>,
+    meter: &mut search::Meter,
+) -> (Vec<Vec<Mask>>, u128) {
+    if local.unary.len() > search::DECOMPOSE_MAX {
+        return search::search_plain(local, stop_after, meter);
+    }
+    let members: Vec<usize> = (0..local.unary.len()).collect();
+    let mut s = GroupSearch {
+        csp: local,
+        meter,
+        cache: std::collections::HashMap::new(),
+        cache_key_entries: 0,
+    };
+    match stop_after {
+        Some(n) => {
+            let sols = s.solutions(&local.unary, &members, n);
+            let found = sols.len() as u128;
+            (sols, found)
+        }
+        None => (Vec::new(), s.count(&local.unary, &members)),
+    }
 }
 
 /// The first `limit` full solutions of the product of the groups' solutions.

@@ -14,7 +14,8 @@ use std::time::Instant;
 /// Options of `blockworld label`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The line drawing (JSON with `points` and `lines`; other fields ignored).
+    /// The line drawing (JSON with `points` and `lines`; other fields ignored), at most
+    /// 100000 lines.
     pub drawing: PathBuf,
     /// Print the report as JSON instead of text.
     #[arg(long)]
@@ -31,9 +32,13 @@ pub struct Args {
     /// List at most this many labellings (the count goes on).
     #[arg(long, default_value_t = 10)]
     pub limit: usize,
-    /// Stop the search after this many nodes and report the count as a lower bound.
+    /// Stop the search after this many nodes and report the count as a lower bound (a node
+    /// costs time in proportion to its group of junctions, never to the drawing).
     #[arg(long, default_value_t = LabelOptions::default().node_budget)]
     pub node_budget: u64,
+    /// Stop the search after this many seconds and report the count as a lower bound.
+    #[arg(long, default_value_t = LabelOptions::default().time_budget_s)]
+    pub time_budget_s: f64,
 }
 
 fn parse_catalog(s: &str) -> Result<Catalog, String> {
@@ -49,6 +54,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         gradient_check: args.gradient_check,
         limit: args.limit,
         node_budget: args.node_budget,
+        time_budget_s: args.time_budget_s,
         ..Default::default()
     };
     let start = Instant::now();

@@ -59,6 +59,15 @@ fn fastest_ms<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (best, out.expect("at least one run"))
 }
 
+/// Refuses a `--<flag>` size list holding an entry outside `1..=max` blocks, before any work:
+/// the message names the entry, the bound and why it exists (`why`).
+fn check_block_counts(flag: &str, counts: &[usize], max: usize, why: &str) -> anyhow::Result<()> {
+    match counts.iter().find(|n| !(1..=max).contains(*n)) {
+        Some(n) => anyhow::bail!("--{flag} {n}: use counts from 1 to {max} blocks ({why})"),
+        None => Ok(()),
+    }
+}
+
 /// Runs one benchmark.
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.which {

@@ -29,7 +29,7 @@ pub struct Args {
     /// Multisample count, 1 or 4.
     #[arg(long, default_value_t = 1)]
     pub msaa: u32,
-    /// Scene sizes, blocks (comma-separated; `b15_layers` stacks of Baustein 15).
+    /// Scene sizes, blocks (comma-separated, each 1 to 1000; `b15_layers` stacks of Baustein 15).
     #[arg(long, value_delimiter = ',', default_values_t = [1, 10, 50])]
     pub blocks: Vec<usize>,
     /// Time only the photo look: four untimed views, then a quarter of `--iterations` timed
@@ -43,6 +43,9 @@ pub struct Args {
     #[arg(long)]
     pub photo_parts: bool,
 }
+
+/// The largest `--blocks` entry (docs/limits.md "Benchmarks").
+pub const MAX_BLOCKS: usize = 1000;
 
 /// `n` Baustein 15 in layers of a 3 x 3 square, touching (so every view shows seams).
 pub fn bench_scene(n: usize) -> Scene {
@@ -61,9 +64,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..Default::default()
     };
     let iterations = args.iterations.max(4);
-    if let Some(n) = args.blocks.iter().find(|n| !(1..=1000).contains(*n)) {
-        anyhow::bail!("--blocks {n}: use sizes from 1 to 1000 blocks");
-    }
+    super::check_block_counts(
+        "blocks",
+        &args.blocks,
+        MAX_BLOCKS,
+        "each size is rendered --iterations times",
+    )?;
     let start = Instant::now();
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     let setup = start.elapsed();

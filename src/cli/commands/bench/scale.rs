@@ -18,13 +18,17 @@ use blockworld::score::score_reconstruction;
 /// Options of `blockworld bench scale`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Block counts, comma separated.
+    /// Block counts, comma separated, each 1 to 10000.
     #[arg(long, value_delimiter = ',', default_value = "1,10,100,1000")]
     pub blocks: Vec<usize>,
     /// Skip settling (rapier) for counts above this (its cost dominates first).
     #[arg(long, default_value_t = 1000)]
     pub settle_max: usize,
 }
+
+/// The largest `--blocks` entry (docs/limits.md "Benchmarks"): the stack, its pictures and its
+/// line drawing are held in memory and every stage runs once per entry.
+pub const MAX_BLOCKS: usize = 10_000;
 
 /// `n` Baustein 15 in a cube-like stack: layers of k x k, k the cube root of `n` rounded up.
 pub fn grid_stack(n: usize) -> Scene {
@@ -85,6 +89,12 @@ fn exponent(a: (usize, Option<f64>), b: (usize, Option<f64>)) -> String {
 
 /// Runs `blockworld bench scale`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    super::check_block_counts(
+        "blocks",
+        &args.blocks,
+        MAX_BLOCKS,
+        "each stack is built, settled, rendered, drawn and scored in memory",
+    )?;
     let renderer = Renderer::new(Backend::Vulkan).context("starting the renderer")?;
     outln!("{}", banner(Some(&renderer)).trim_end())?;
     outln!("ms per stage for a cube-like stack of n b15 (one view, 512 x 480, one run each); growth exponent to the row above in brackets")?;

@@ -17,7 +17,8 @@ pub struct Args {
     /// Settle each scene this many times and keep the fastest.
     #[arg(long, default_value_t = 20)]
     pub repeat: usize,
-    /// Also cube-like stacks of this many b15 (as in `bench scale`), comma separated.
+    /// Also cube-like stacks of this many b15 (as in `bench scale`), comma separated, each 1 to
+    /// 10000.
     #[arg(long, value_delimiter = ',', default_value = "10,100,1000")]
     pub grid: Vec<usize>,
     /// A Python with `pybullet` installed: also settle the 12-block stack in PyBullet (the peer
@@ -28,6 +29,10 @@ pub struct Args {
     #[arg(long, default_value = "scripts/pybullet_settle.py")]
     pub pybullet_script: std::path::PathBuf,
 }
+
+/// The largest `--grid` entry (docs/limits.md "Benchmarks"): settling costs time and memory in
+/// proportion to the blocks and their contacts.
+pub const MAX_GRID_BLOCKS: usize = 10_000;
 
 /// The peer benchmark's 12 cuboids (docs/benchmarks.md "Benchmarks"): a two-layer stack of two b30 and two
 /// b15 bridged by a b30 and a b15, two two-high columns of b7_5 and a two-high b15 tower. The
@@ -128,6 +133,12 @@ fn pybullet_peer(args: &Args, python: &std::path::Path) -> anyhow::Result<serde_
 
 /// Runs `blockworld bench settle`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    super::check_block_counts(
+        "grid",
+        &args.grid,
+        MAX_GRID_BLOCKS,
+        "each stack is settled in memory",
+    )?;
     outln!("{}", banner(None).trim_end())?;
     let p = SettleParams::default();
     outln!(
