@@ -93,7 +93,7 @@ fn bench_block_counts_beyond_their_cap_are_refused() {
         (["bench", "settle", "--grid", "1000000"], "10000"),
         (["bench", "render", "--blocks", "1001"], "1000"),
     ] {
-        let err = fails_with_2(&blockworld(&args));
+        let err = fails_with_2(&blockworld(args));
         assert!(
             err.contains(&format!("--{} ", &args[2][2..]))
                 && err.contains(&format!("1 to {cap} blocks")),
@@ -124,7 +124,7 @@ fn label_of_a_hundred_thousand_random_lines_ends_with_its_budget() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("chain.json");
     std::fs::write(&path, random_chain(100_000, 7)).unwrap();
-    let o = blockworld(&[
+    let o = blockworld([
         "label",
         &path.to_string_lossy(),
         "--json",
@@ -146,7 +146,7 @@ fn label_of_a_hundred_thousand_random_lines_ends_with_its_budget() {
 
     let big = dir.path().join("big.json");
     std::fs::write(&big, random_chain(100_001, 7)).unwrap();
-    let err = fails_with_2(&blockworld(&["label", &big.to_string_lossy()]));
+    let err = fails_with_2(&blockworld(["label", &big.to_string_lossy()]));
     assert!(
         err.contains("big.json") && err.contains("100001 lines") && err.contains("at most 100000"),
         "{err}"
