@@ -152,3 +152,37 @@ fn label_of_a_hundred_thousand_random_lines_ends_with_its_budget() {
         "{err}"
     );
 }
+
+/// Regression: `view --shade` of 5,000 blocks ran 57 s without a word (the wireframe takes
+/// 0.1 s); shading beyond 250 block views is refused before drawing, naming the file and the
+/// fix, while the wireframe of the same scene is drawn.
+#[test]
+fn view_shade_beyond_its_cap_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocks: Vec<serde_json::Value> = (0..1001)
+        .map(|i| {
+            let (x, z) = ((i % 40) as f64 * 30.0, (i / 40) as f64 * 30.0);
+            serde_json::json!({"type": "b15", "center": [x, 7.5, z]})
+        })
+        .collect();
+    let scene = dir.path().join("grid_1001.json");
+    let text = serde_json::json!({"name": "grid_1001", "blocks": blocks}).to_string();
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.path().join("v.png");
+    let (scene, out) = (scene.to_string_lossy(), out.to_string_lossy());
+    let err = fails_with_2(&blockworld(["view", &scene, "--shade", "-o", &out]));
+    assert!(
+        err.contains("grid_1001.json")
+            && err.contains("1001 blocks")
+            && err.contains("drop --shade"),
+        "{err}"
+    );
+    assert!(!Path::new(out.as_ref()).exists());
+    let o = blockworld(["view", &scene, "-o", &out]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
