@@ -275,8 +275,7 @@ fn cli_refuses_an_unknown_extension_and_names_the_file() {
     for name in ["sample.obj", "sample"] {
         let out = dir.path().join(name);
         let o = blockworld(["export", THESIS_SAMPLE, "-o", out.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2));
-        let err = String::from_utf8_lossy(&o.stderr);
+        let err = common::fails_with_2(&o);
         assert!(err.contains(out.to_str().unwrap()), "{err}");
         assert!(err.contains(".glb") && err.contains(".gltf"), "{err}");
     }
@@ -288,8 +287,7 @@ fn cli_names_a_missing_scene_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.glb");
     let o = blockworld(["export", "no/such/scene.json", "-o", out.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = common::fails_with_2(&o);
     assert!(err.contains("no/such/scene.json"), "{err}");
     assert!(!out.exists());
 }

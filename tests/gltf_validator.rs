@@ -156,14 +156,22 @@ fn generate_gltf_writes_a_valid_glb_per_scene_listed_in_the_manifest() {
             .as_str()
             .expect("scene.glb in the manifest");
         assert_eq!(sha, hex::encode(sha2::Sha256::digest(&bytes)));
-        assert!(gltf::Gltf::from_slice(&bytes).is_ok());
+        // The model is the scene's: one node per block of the scene.json beside it.
+        let gltf = gltf::Gltf::from_slice(&bytes).expect("the .glb reads back");
+        let scene = read_scene(&glb.with_file_name("scene.json")).unwrap();
+        assert_eq!(
+            gltf.document.nodes().count(),
+            scene.blocks.len(),
+            "{}",
+            glb.display()
+        );
         files.push(glb);
     }
     assert_eq!(files.len(), 4);
     // Resuming without --gltf is other options: refused, naming the difference.
     let o = run(&[]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("scene_files"));
+    let err = common::fails_with_2(&o);
+    assert!(err.contains("scene_files"), "{err}");
     let Some(reports) = validate(&files) else {
         return;
     };

@@ -882,8 +882,7 @@ fn label_prints_the_cube_counts_and_refuses_a_broken_drawing_with_exit_2() {
     let bad = dir.path().join("bad.json");
     std::fs::write(&bad, r#"{"points": [[0, 0]], "lines": [[0, 3]]}"#).unwrap();
     let out = blockworld(["label", bad.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::fails_with_2(&out);
     assert!(err.contains("bad.json") && err.contains("line 0"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }

@@ -129,8 +129,7 @@ fn bad_input_fails_with_the_file_named_and_writes_nothing() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = common::fails_with_2(&o);
     assert!(err.contains("no_such_scene.json"), "{err}");
     assert!(!out.exists(), "no output directory for a failed run");
     let bad = tmp.path().join("bad.json");
@@ -140,8 +139,7 @@ fn bad_input_fails_with_the_file_named_and_writes_nothing() {
     )
     .unwrap();
     let o = blockworld(["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = common::fails_with_2(&o);
     assert!(err.contains("bad.json") && err.contains("b99"), "{err}");
     let scene = common::root().join("scenes/row.json");
     let o = blockworld([
@@ -152,8 +150,8 @@ fn bad_input_fails_with_the_file_named_and_writes_nothing() {
         "--msaa",
         "2",
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--msaa"));
+    let err = common::fails_with_2(&o);
+    assert!(err.contains("--msaa"), "{err}");
     assert!(!out.exists());
 }
 
@@ -241,8 +239,7 @@ fn no_vulkan_driver_gives_the_install_hint_not_a_panic() {
         .env("VK_DRIVER_FILES", tmp.path().join("none.json"))
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = common::fails_with_2(&o);
     assert!(!err.contains("panicked"), "{err}");
     assert!(
         err.contains("mesa-vulkan-drivers")

@@ -106,7 +106,7 @@ fn unsupported_reconstruction_gives_the_unsupported_verdict() {
 }
 
 #[test]
-fn bad_input_names_the_file_and_exits_non_zero() {
+fn bad_input_names_the_file_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     let truth = write(dir.path(), "truth.json", TRUTH);
     let bad = write(
@@ -115,19 +115,17 @@ fn bad_input_names_the_file_and_exits_non_zero() {
         r#"{"name": "r", "blocks": [{"type": "b45", "center": [0, 0, 0]}]}"#,
     );
     let out = blockworld(["score", &truth, &bad]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::fails_with_2(&out);
     assert!(
         err.contains("broken_recon.json") && err.contains("b45"),
         "{err}"
     );
-    let out = blockworld([
+    let err = common::fails_with_2(&blockworld([
         "score",
         &dir.path().join("missing.json").display().to_string(),
         &truth,
-    ]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.json"));
+    ]));
+    assert!(err.contains("missing.json"), "{err}");
 }
 
 #[test]
@@ -168,6 +166,7 @@ fn bench_accuracy_prints_the_family_table_and_writes_json() {
     // An empty recognizer directory: every scene fails, supported ones stop being recognized.
     let empty = tempfile::tempdir().unwrap();
     let out = accuracy(&empty.path().display().to_string());
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("no longer recognized"));
+    common::fails_with_2(&out);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("no longer recognized"), "{stdout}");
 }

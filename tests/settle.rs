@@ -58,8 +58,7 @@ fn an_unstable_scene_fails_names_the_block_and_writes_nothing() {
     let (input, output) = (dir.path().join("in.json"), dir.path().join("out.json"));
     std::fs::write(&input, UNSTABLE).unwrap();
     let out = settle(&input, &output, &[]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::fails_with_2(&out);
     assert!(
         err.contains("not stable") && err.contains("block 1 (b15): drift"),
         "{err}"
@@ -90,6 +89,6 @@ fn a_missing_file_is_a_clear_error() {
         &dir.path().join("o.json"),
         &[],
     );
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("nope.json"));
+    let err = common::fails_with_2(&out);
+    assert!(err.contains("nope.json"), "{err}");
 }

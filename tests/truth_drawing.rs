@@ -8,8 +8,10 @@ use common::distance_to_segment;
 
 use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
 use blockworld::drawing::{Junction, LineDrawing, LineKind};
-use blockworld::geom::{DQuat, DVec2, DVec3};
-use blockworld::linedraw::visible_line_drawing;
+use blockworld::geom::{DQuat, DVec2, DVec3, CONTACT_TOL_MM};
+use blockworld::linedraw::{
+    visible_line_drawing, visible_line_drawing_with_tolerances, TruthTolerances,
+};
 use blockworld::scene::{
     basic_blocks, Block, BlockType, ConvexPolyhedron, Orientation, Scene, Shape,
 };
@@ -448,6 +450,54 @@ fn perturbed_poses_draw_like_their_intended_scene() {
         }
     }
     assert!(checked >= 100, "{checked} perturbed drawings checked");
+}
+
+/// Neighbours off flush by the contact tolerance, as settling may leave them, draw one seam like
+/// flush neighbours: the seam tolerance ([`TruthTolerances::seam_mm`], `2 * CONTACT_TOL_MM`)
+/// allows each of two neighbours to be off by `CONTACT_TOL_MM`. The check can fail: 1 mm off
+/// flush is a step that draws other lines, and so is the same 0.05 mm with no seam tolerance.
+#[test]
+fn neighbours_off_flush_by_the_contact_tolerance_draw_one_seam() {
+    // The moved block's corners move with it: 0.05 mm is about 0.5 px at this framing.
+    const MOVED_PX: f64 = 1.0;
+    let moved = |s: &Scene, dz_mm: f64| {
+        let mut s = s.clone();
+        s.blocks[1].center_mm.z += dz_mm;
+        s
+    };
+    let no_seams = TruthTolerances {
+        seam_mm: 0.0,
+        ..TruthTolerances::default()
+    };
+    for s in [side_by_side(), stacked()] {
+        for view in CornerView::ALL {
+            let cam = camera(&s, view);
+            let flush = visible_line_drawing(&s, &cam);
+            let off_flush = moved(&s, CONTACT_TOL_MM);
+            let got = visible_line_drawing(&off_flush, &cam);
+            if let Err(e) = same_structure(&flush, &got, MOVED_PX) {
+                panic!(
+                    "{} {view:?}: {e}\nflush:\n{}\noff flush:\n{}",
+                    s.name,
+                    describe(&flush),
+                    describe(&got)
+                );
+            }
+            let step = visible_line_drawing(&moved(&s, 1.0), &cam);
+            assert!(
+                same_structure(&flush, &step, MOVED_PX).is_err(),
+                "{} {view:?}: a 1 mm step drew like flush\n{}",
+                s.name,
+                describe(&step)
+            );
+            let strict = visible_line_drawing_with_tolerances(&off_flush, &cam, &no_seams);
+            assert!(
+                same_structure(&flush, &strict, MOVED_PX).is_err(),
+                "{} {view:?}: without a seam tolerance 0.05 mm off flush drew like flush",
+                s.name
+            );
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

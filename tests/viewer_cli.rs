@@ -174,8 +174,8 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
     assert_eq!(o.status.code(), Some(2));
     let svg = tmp.path().join("x.svg");
     let o = blockworld(["view", s(&sample), "-o", s(&svg), "--shade"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains(".png") && !svg.exists());
+    let err = common::fails_with_2(&o);
+    assert!(err.contains(".png") && !svg.exists(), "{err}");
     // A declined reconstruction has no blocks to look at.
     let declined = tmp.path().join("declined.json");
     std::fs::write(
@@ -192,6 +192,6 @@ fn bad_views_exit_2_with_the_fix_and_write_nothing() {
     );
     let frag = common::root().join("tests/fixtures/appendix_b");
     let o = blockworld(["view", s(&frag), "-o", s(&png)]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("declares 40"));
+    let err = common::fails_with_2(&o);
+    assert!(err.contains("declares 40"), "{err}");
 }

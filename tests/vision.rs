@@ -494,8 +494,7 @@ fn cli_vertices_and_edges_on_fixtures() {
     let small = tmp.path().join("small.png");
     GrayImage::new(64, 48).save(&small).unwrap();
     let o = common::blockworld(["vertices", &s(&small), "--camera", &camera_ne]);
-    assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = common::fails_with_2(&o);
     assert!(
         err.contains("small.png") && err.contains("64x48") && err.contains("512x480"),
         "{err}"

@@ -175,14 +175,6 @@ mod tests {
     use glam::DVec3;
 
     #[test]
-    fn seams_allow_two_neighbours_off_flush_by_the_contact_tolerance() {
-        let t = TruthTolerances::default();
-        assert_eq!(t.contact_mm, CONTACT_TOL_MM);
-        assert!((t.seam_mm - 2.0 * CONTACT_TOL_MM).abs() < 1e-15);
-        assert!(t.sample_offset_mm > t.seam_mm && t.sample_offset_mm < 7.5);
-    }
-
-    #[test]
     fn an_empty_scene_draws_nothing_and_a_cube_draws_a_hexagon_with_a_fork() {
         let empty = Scene::new("empty", vec![]);
         let cam = Camera::frame(&[], CornerView::Ne, &CameraOptions::default());
