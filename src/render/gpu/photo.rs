@@ -13,14 +13,14 @@
 
 use super::super::photo::mesh::{PhotoMesh, PhotoVertex};
 use super::super::RenderError;
-use super::Gpu;
+use super::pipelines::uniform_layout_entry;
+use super::{Gpu, DEPTH_FORMAT};
 use std::sync::Mutex;
 
 /// The shader source, compiled in so an edited shader triggers a rebuild.
 const PHOTO_WGSL: &str = include_str!("../../../shaders/photo.wgsl");
 
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Side of the square shadow map, texels: on a scene framed in 512 px, about two texels per
 /// picture pixel. 1024 gave pictures within a few levels of these (a quarter of a percent of
@@ -340,16 +340,7 @@ impl Gpu {
 /// The shadow pass's layout (the uniforms) and the radiance pass's (uniforms, shadow map,
 /// comparison sampler).
 fn bind_group_layouts(device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::BindGroupLayout) {
-    let uniform = wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
+    let uniform = uniform_layout_entry(false);
     let shadow = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("photo shadow"),
         entries: &[uniform],
