@@ -351,10 +351,10 @@ fn generator_lines(
 /// picture geometry, never the truth); drawings of basic blocks and wedges show no curved chain.
 #[test]
 fn parallelogram_search_fails_on_round_parts_chapter_vii() {
-    use blockworld::recognize::{
-        curved_chain_lines, recognize, select_vertices, Face, ObservedView, ParallelogramSearch,
-        RecognizeOptions,
+    use blockworld::recognize::steps::{
+        curved_chain_lines, select_vertices, Face, ParallelogramSearch,
     };
+    use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
     use blockworld::scene::ReconStatus;
     let alone = Scene::new(
         "alone",
@@ -434,7 +434,8 @@ fn parallelogram_search_fails_on_round_parts_chapter_vii() {
 /// recognizer reconstructs the wedge from the four views, at its place and facing its way.
 #[test]
 fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
-    use blockworld::recognize::{recognize, sloped_faces, ObservedView, RecognizeOptions};
+    use blockworld::recognize::steps::sloped_faces;
+    use blockworld::recognize::{recognize, ObservedView, RecognizeOptions};
     use blockworld::scene::ReconStatus;
     for yaw in [0.0, 90.0, 180.0, 270.0] {
         let block = |id: &str| Scene::new(id, vec![Block::new(id, DVec3::new(0.0, 7.5, 0.0), yaw)]);
@@ -486,7 +487,7 @@ const SAME_CORNER_MM: f64 = 0.1;
 /// and its gradient the one that face has in `cam` (relative to its size: a face seen nearly
 /// edge-on has a huge gradient; exactly edge-on has none).
 fn check_sloped_gradient(
-    g: &blockworld::recognize::FaceGradient,
+    g: &blockworld::recognize::steps::FaceGradient,
     slope: DVec3,
     cam: &Camera,
     what: &str,
@@ -589,7 +590,8 @@ fn drawings_from_pictures(
 /// the scene as unsupported for round parts; rendered basic blocks and a wedge give no curve.
 #[test]
 fn round_parts_are_declined_from_pictures_chapter_vii() {
-    use blockworld::recognize::{curved_chain_lines, recognize, RecognizeOptions};
+    use blockworld::recognize::steps::curved_chain_lines;
+    use blockworld::recognize::{recognize, RecognizeOptions};
     use blockworld::scene::ReconStatus;
     let Some(renderer) = common::renderer() else {
         return;

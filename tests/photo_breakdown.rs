@@ -13,10 +13,10 @@ use common::same_blocks;
 use blockworld::camera::CornerView;
 use blockworld::drawing::LineDrawing;
 use blockworld::pipeline::{observe, DrawingSource};
-use blockworld::recognize::{
-    draw_hypothesis, edge_profile, mismatched_features, pictures_mismatch, recognize,
-    recognize_in_pictures, RecognizeOptions, ViewPicture,
+use blockworld::recognize::steps::{
+    edge_profile, mismatched_features, pictures_mismatch, ViewPicture,
 };
+use blockworld::recognize::{draw_hypothesis, recognize, recognize_in_pictures, RecognizeOptions};
 use blockworld::render::{Look, RenderOptions};
 use blockworld::scene::{read_scene, ReconStatus};
 use blockworld::vision::VisionOptions;

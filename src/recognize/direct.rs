@@ -296,7 +296,7 @@ mod tests {
         let views = views_of(truth, &CornerView::ALL);
         let opts = RecognizeOptions::default();
         let silhouettes = Silhouettes::new(&views);
-        let pool = super::super::propose_and_pool(
+        let pool = super::super::flow::propose_and_pool(
             &views,
             &opts,
             (Some(&silhouettes), false),

@@ -575,9 +575,9 @@ pub fn pictures_mismatch(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::recognize::verify::{compare_drawings, draw_hypothesis, mismatched_features};
     use crate::recognize::{
-        compare_drawings, draw_hypothesis, mismatched_features, recognize, recognize_in_pictures,
-        views_of, CornerView, ObservedView, RecognizeOptions,
+        recognize, recognize_in_pictures, views_of, CornerView, ObservedView, RecognizeOptions,
     };
     use crate::scene::Block;
     use crate::scene::ReconStatus;

@@ -14,10 +14,8 @@
 use crate::cli::files::read_picture;
 use anyhow::Context;
 use blockworld::drawing::{Direction, LineDrawing};
-use blockworld::recognize::{
-    draw_hypothesis, select_vertices, Face, ObservedView, ParallelogramSearch, Recognition,
-    RecognizeOptions,
-};
+use blockworld::recognize::steps::{select_vertices, Face, ParallelogramSearch};
+use blockworld::recognize::{draw_hypothesis, ObservedView, Recognition, RecognizeOptions};
 use image::{Rgb, RgbImage};
 use std::fmt::Write as _;
 use std::path::Path;

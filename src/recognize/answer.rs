@@ -1,0 +1,185 @@
+//! What the recognizer takes and gives: the observed views and options, the answer with its
+//! evidence, why it declined, and the errors of malformed input.
+
+use super::{Layer, MatchTolerances, ViewCheck};
+use crate::camera::Camera;
+use crate::drawing::LineDrawing;
+use crate::scene::{Block, ReconStatus, ViewEvidence};
+
+/// One observed view: its line drawing (ground truth or vision) and its camera.
+#[derive(Debug, Clone)]
+pub struct ObservedView {
+    /// The line drawing in picture px.
+    pub drawing: LineDrawing,
+    /// The camera that took it.
+    pub camera: Camera,
+}
+
+/// Options of [`recognize`]: tolerances and search limits, with the unit in each name.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecognizeOptions {
+    /// Points closer than this are the same point, px; default 2 (the vision front end's
+    /// vertices lie within 0.5 px on average, docs/vision.md "Vision front end").
+    pub tol_px: f64,
+    /// Highest top face considered, mm; default 120 (eight 15 mm layers).
+    pub max_height_mm: f64,
+    /// Catalog-match tolerances.
+    pub matching: MatchTolerances,
+    /// Lines more than this off every world axis mean blocks not in one direction, degrees;
+    /// default 3.
+    pub axis_tol_deg: f64,
+    /// Candidates redrawn exactly per search step before looking further; default 8.
+    pub shortlist: usize,
+    /// Most candidates redrawn per search step; default 64.
+    pub max_redraws_per_step: usize,
+    /// Most blocks in an answer; default 40.
+    pub max_blocks: usize,
+    /// Repair rounds of the search when views stay unexplained; default 4.
+    pub repair_rounds: usize,
+}
+
+impl Default for RecognizeOptions {
+    fn default() -> Self {
+        RecognizeOptions {
+            tol_px: 2.0,
+            max_height_mm: 120.0,
+            matching: MatchTolerances::default(),
+            axis_tol_deg: 3.0,
+            shortlist: 8,
+            max_redraws_per_step: 64,
+            max_blocks: 40,
+            repair_rounds: 4,
+        }
+    }
+}
+
+/// Why the recognizer declined (status `unsupported`), in the thesis's words.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Decline {
+    /// Curved lines: a round part (Chapter VII's "circles").
+    #[error("view {view}: {count} lines form curved chains (ellipse-like: a round part's rim); with blocks like pyramids or circles the parallelogram surface searching fails (Chapter VII)")]
+    RoundParts {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// A sloped face (a trapezoidal block, told from the solid blocks by its gradient) where
+    /// no catalog trapezoidal block placed from the sloped faces explains the views.
+    #[error("view {view} not explained: the drawings show a sloped face, a trapezoidal block distinguished from solid blocks by the gradient constraints (Chapter VII, Figure 7.1), but no trapezoidal block of the catalog placed from its sloped faces explains them")]
+    TrapezoidalBlock {
+        /// The first view not explained.
+        view: String,
+    },
+    /// Lines within 2 degrees of horizontal (Chapter IV's six directions do not cover them).
+    #[error("view {view}: {count} lines fall in no six-bit direction (Chapter IV); blocks are not in one direction (Chapter VII)")]
+    UnclassifiedLines {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// Lines along no world axis.
+    #[error("view {view}: {count} lines run along no block axis: blocks not in one direction (yaw not a multiple of 90 degrees, Chapter VII)")]
+    NotOneDirection {
+        /// The view's name.
+        view: String,
+        /// How many lines.
+        count: usize,
+    },
+    /// The verified answer has an upper block larger than what it rests on.
+    #[error("upper layer larger than the layer below (Chapter VII, Figure 7.2): block {block} overhangs its support")]
+    UpperLayerLarger {
+        /// Index of the overhanging block in the hypothesis.
+        block: usize,
+    },
+    /// Another set of catalog blocks explains every view equally well.
+    #[error("the views do not decide the blocks: {detail}")]
+    Ambiguous {
+        /// Which blocks, and how.
+        detail: String,
+    },
+    /// A block with nothing under it.
+    #[error("block {block} has no visible support (Chapter VII: every block touches the floor or another block)")]
+    HiddenSupport {
+        /// Index of the floating block in the hypothesis.
+        block: usize,
+    },
+    /// The best hypothesis does not explain a view.
+    #[error("view {view} not explained by catalog blocks: {} observed points and {} lines unexplained, {} points and {} lines drawn in excess (shapes outside the catalog or occlusion the views cannot resolve)", .check.unexplained_points, .check.unexplained_lines, .check.extra_points, .check.extra_lines)]
+    Unexplained {
+        /// The view's name.
+        view: String,
+        /// Its comparison.
+        check: ViewCheck,
+    },
+}
+
+/// Bad input to [`recognize`] (a programming or file error, not a scene the method declines).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecognizeError {
+    /// No views given.
+    #[error("no views to recognize: give at least one line drawing with its camera")]
+    NoViews,
+    /// Pictures given, but not one per view.
+    #[error("{pictures} pictures for {views} views: give one picture per view, in the views' order, or none")]
+    PictureCount {
+        /// How many views.
+        views: usize,
+        /// How many pictures.
+        pictures: usize,
+    },
+    /// A drawing refers to points it does not have, or has non-finite points.
+    #[error("view {view}: {problem}; re-create the drawing (lines_<view>.json) with `blockworld render` or the vision front end")]
+    BadDrawing {
+        /// The view's name.
+        view: String,
+        /// What is wrong.
+        problem: String,
+    },
+}
+
+/// The recognizer's evidence: per-view counts, pooled candidates and the hypothesis tested.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Evidence {
+    /// One entry per view, in input order: what it contributed and how the final answer's
+    /// drawing compares with it (the reconstruction file's `evidence`, one type for both).
+    pub views: Vec<ViewEvidence>,
+    /// Distinct candidate blocks after pooling the views (when the direct path answered: the
+    /// candidates read exactly from closed parallelograms, all it pools).
+    pub pooled_candidates: usize,
+    /// The blocks the search chose (also when declined).
+    pub hypothesis: Vec<Block>,
+}
+
+/// The recognizer's answer: placed catalog blocks with a status and reason, the layers and
+/// touching pairs, and the evidence. Converts 1:1 to a reconstruction [`Scene`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recognition {
+    /// The blocks (empty when declined).
+    pub blocks: Vec<Block>,
+    /// `Ok` or `Unsupported`.
+    pub status: ReconStatus,
+    /// Why it declined.
+    pub reason: Option<String>,
+    /// The layers of `blocks`, lowest first.
+    pub layers: Vec<Layer>,
+    /// Pairs of `blocks` that touch.
+    pub touching: Vec<[usize; 2]>,
+    /// How the answer was reached.
+    pub evidence: Evidence,
+}
+
+impl Recognition {
+    /// The answer `Unsupported` for `decline`, with the evidence gathered so far.
+    pub(super) fn declined(decline: Decline, evidence: Evidence) -> Recognition {
+        Recognition {
+            blocks: Vec::new(),
+            status: ReconStatus::Unsupported,
+            reason: Some(decline.to_string()),
+            layers: Vec::new(),
+            touching: Vec::new(),
+            evidence,
+        }
+    }
+}
