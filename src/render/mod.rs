@@ -6,6 +6,7 @@
 //! geometry, shared with the recognizer's check); only `gpu` touches wgpu.
 
 mod gpu;
+mod mesh;
 pub mod photo;
 
 pub use photo::{Look, PhotoOptions};
@@ -204,7 +205,7 @@ pub const SEAM_LEVEL: u8 = 35;
 pub const SEAM_HALF_WIDTH_PX: f64 = 0.55;
 
 pub use gpu::adapter_summary;
-pub use gpu::mesh::{
+pub use mesh::{
     face_gray_level, floor_fill, FloorFill, AMBIENT, BLOCK_ALBEDO, FLOOR_ALBEDO,
     LIGHT_IN_CAMERA_FRAME,
 };
@@ -305,7 +306,7 @@ impl Renderer {
             .map(|(c, m)| gpu::FrameRequest {
                 vertices: m,
                 uniforms: frame_uniforms(c),
-                floor: gpu::mesh::floor_fill(scene, c),
+                floor: mesh::floor_fill(scene, c),
             })
             .collect();
         let frames = self
@@ -370,14 +371,14 @@ impl Renderer {
 
 /// The triangles of `scene` seen by `camera`; a face the renderer cannot draw is an options
 /// error naming it.
-fn view_mesh(scene: &Scene, camera: &Camera) -> Result<Vec<gpu::mesh::Vertex>, RenderError> {
-    gpu::mesh::scene_vertices(scene, camera).map_err(|e| {
+fn view_mesh(scene: &Scene, camera: &Camera) -> Result<Vec<mesh::Vertex>, RenderError> {
+    mesh::scene_vertices(scene, camera).map_err(|e| {
         RenderError::Options(format!(
             "block {} face {} has {} edges; the renderer draws faces of at most {} edges",
             e.block,
             e.face,
             e.edges,
-            gpu::mesh::MAX_FACE_EDGES
+            mesh::MAX_FACE_EDGES
         ))
     })
 }

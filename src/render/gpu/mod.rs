@@ -24,7 +24,6 @@
 //! writes the floor's exact depth into the pixels no block covers (docs/rendering.md "Rendering").
 
 mod device;
-pub mod mesh;
 mod passes;
 pub mod photo;
 mod pipelines;
@@ -33,6 +32,7 @@ mod targets;
 
 pub use device::adapter_summary;
 
+use super::mesh;
 use super::{Backend, RenderError};
 use mesh::{DrawOrder, FloorFill, Vertex};
 use passes::{draw_runs, encode_readback, FramePasses};

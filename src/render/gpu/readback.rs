@@ -175,7 +175,7 @@ fn split_words(words: impl Iterator<Item = u32> + Clone, layout: PixelLayout, fr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::gpu::mesh;
+    use crate::render::mesh;
 
     fn packed<'a>(
         bytes: &'a [u8],

@@ -329,20 +329,20 @@ impl Renderer {
         camera: &Camera,
         msaa: u32,
     ) -> Result<(GrayImage, Gray16Image, Gray16Image), RenderError> {
-        let vertices = super::gpu::mesh::scene_vertices(scene, camera).map_err(|e| {
+        let vertices = super::mesh::scene_vertices(scene, camera).map_err(|e| {
             RenderError::Options(format!(
                 "block {} face {} has {} edges; the renderer draws faces of at most {} edges",
                 e.block,
                 e.face,
                 e.edges,
-                super::gpu::mesh::MAX_FACE_EDGES
+                super::mesh::MAX_FACE_EDGES
             ))
         })?;
         let [w, h] = camera.size_px;
         let request = super::gpu::FrameRequest {
             vertices: &vertices,
             uniforms: frame_uniforms(camera),
-            floor: super::gpu::mesh::floor_fill(scene, camera),
+            floor: super::mesh::floor_fill(scene, camera),
         };
         let frame = self
             .gpu

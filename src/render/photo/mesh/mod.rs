@@ -12,7 +12,7 @@ mod reach;
 #[cfg(test)]
 mod tests;
 
-use super::super::gpu::mesh::light_in_world;
+use super::super::mesh::light_in_world;
 use crate::camera::{Camera, FRONT_FACING_COS};
 use crate::geom::DVec3;
 use crate::scene::Scene;
