@@ -72,7 +72,16 @@ pub fn gray_at_px(gray: &image::GrayImage, x: i64, y: i64) -> Option<f64> {
 /// picture's neighbour differences (61,000) pins their median as well as all of them do.
 const NOISE_ROW_STEP: usize = 4;
 
-/// The picture's noise sigma, gray levels: the median absolute difference of horizontally
+/// The median of `values` as every stage takes it: the value at index `n / 2` of the sorted
+/// values (for an even count the upper of the middle two), so the median of observed values is
+/// one of them (a gray level stays a level, a time a measured time); `None` when empty. Sorts
+/// `values` in place (`f64::total_cmp`: NaN last).
+pub fn median(values: &mut [f64]) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied()
+}
+
+/// The picture's noise sigma, gray levels: the [`median`] absolute difference of horizontally
 /// neighbouring pixels (on every [`NOISE_ROW_STEP`]-th row) times 1.4826 / sqrt(2) (a face is
 /// flat, so most differences are noise; a difference of two pixels has sigma sqrt(2) times
 /// theirs).
@@ -279,6 +288,16 @@ impl UnionFind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_median_is_an_observed_value_the_upper_middle_of_an_even_count() {
+        assert_eq!(median(&mut [5.0, 1.0, 3.0]), Some(3.0));
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), Some(3.0));
+        assert_eq!(median(&mut [7.0]), Some(7.0));
+        assert_eq!(median(&mut []), None);
+        // Sorted by total order: a NaN goes last instead of scrambling the order.
+        assert_eq!(median(&mut [f64::NAN, 2.0, 1.0]), Some(2.0));
+    }
 
     #[test]
     fn newell_vector_is_twice_the_area_along_the_counter_clockwise_normal() {

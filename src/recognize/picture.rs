@@ -26,7 +26,7 @@ use super::verify::{
 };
 use super::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{convex_hull, gray_at, inside_convex, noise_levels, DVec2, DVec3};
+use crate::geom::{convex_hull, gray_at, inside_convex, median, noise_levels, DVec2, DVec3};
 use image::GrayImage;
 
 /// A view's picture with its noise and scale, read once.
@@ -146,11 +146,6 @@ impl EdgeProfile {
     }
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(0.0)
-}
-
 /// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
 pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let len = a.distance(b);
@@ -187,7 +182,7 @@ pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
         if step.is_empty() {
             continue;
         }
-        let m = median(&mut step.clone());
+        let m = median(&mut step.clone()).unwrap_or(0.0);
         let sign = if m < 0.0 { -1.0 } else { 1.0 };
         let share = |v: &[f64], f: &dyn Fn(f64) -> bool| {
             v.iter().filter(|&&x| f(x)).count() as f64 / v.len() as f64

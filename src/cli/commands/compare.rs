@@ -7,7 +7,7 @@ use anyhow::Context;
 use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::csg::reconstruction;
 use blockworld::drawing::LineDrawing;
-use blockworld::geom::{DVec2, DVec3};
+use blockworld::geom::{median, DVec2, DVec3};
 use blockworld::kanade::{
     check_labelling, computer_words, depth_rms_px, is_consistent, label_drawing,
     labelling_from_kinds, orthographic_px_per_mm, recover_shape, surface_connection_graph,
@@ -248,11 +248,6 @@ fn kanade(d: &LineDrawing, model: Model) -> anyhow::Result<(LabelReport, Option<
     Ok((report, best.map(|b| b.1)))
 }
 
-fn median_us(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 /// Both models on one scene's view: Kanade's labelling, SCG and gradients timed together; the
 /// six-bit side timed as the coding of every vertex (`LineDrawing::finalize`, Chapter IV).
 fn measure(
@@ -273,7 +268,7 @@ fn measure(
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
     let (report, chosen) = result.context("no run")?;
-    let kanade_us = median_us(times);
+    let kanade_us = median(&mut times).unwrap_or(f64::NAN);
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat {
         let mut d = drawing.clone();
@@ -281,7 +276,7 @@ fn measure(
         d.finalize();
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
-    let six_bit_us = median_us(times);
+    let six_bit_us = median(&mut times).unwrap_or(f64::NAN);
     let labels = chosen.as_ref().map(|c| c.0.clone());
     let scg = surface_connection_graph(&drawing, labels.as_deref().unwrap_or(&[]))?;
     let words = computer_words(&drawing, &scg);

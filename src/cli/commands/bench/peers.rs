@@ -358,18 +358,9 @@ fn number(result: &serde_json::Value, key: &str) -> anyhow::Result<f64> {
         .with_context(|| format!("RESULT has no positive number {key:?}: {result}"))
 }
 
-/// The median (the mean of the middle two of an even count); NaN when empty.
+/// [`blockworld::geom::median`] of measured times; NaN when there are none.
 fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        (values[n / 2 - 1] + values[n / 2]) / 2.0
-    }
+    blockworld::geom::median(values).unwrap_or(f64::NAN)
 }
 
 /// The table of medians, `same work | blockworld | peer | ratio | target`, and every round's
@@ -529,9 +520,9 @@ mod tests {
     }
 
     #[test]
-    fn median_of_odd_and_even_counts() {
+    fn median_of_odd_and_even_counts_is_a_measured_time() {
         assert_eq!(median(&mut [5.0, 1.0, 3.0]), 3.0);
-        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 3.0);
         assert!(median(&mut []).is_nan());
     }
 }

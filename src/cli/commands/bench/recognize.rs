@@ -12,6 +12,7 @@ use super::machine::banner;
 use super::render::bench_scene;
 use crate::cli::view_args::ViewArgs;
 use anyhow::Context;
+use blockworld::geom::median;
 use blockworld::pipeline::{observe, recognize_rendered, DrawingSource};
 use blockworld::recognize::{recognize, ObservedView, Recognition, RecognizeOptions};
 use blockworld::render::Renderer;
@@ -82,11 +83,6 @@ fn measure(renderer: &Renderer, scene: &Scene, args: &Args) -> anyhow::Result<Fi
     })
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
 /// Runs `blockworld bench recognize`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let renderer = Renderer::new(args.view.backend()?).context("starting the renderer")?;
@@ -110,7 +106,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     println!("| scenes | blocks | recognizer, drawings only | recognizer with pictures (as `recognize`) | vision + recognizer with pictures | six-bit table bytes | everything else bytes |");
     println!("|---|---|---|---|---|---|---|");
-    let med = |f: &dyn Fn(&Figures) -> f64| median(suite.iter().map(f).collect());
+    let med = |f: &dyn Fn(&Figures) -> f64| {
+        let mut values: Vec<f64> = suite.iter().map(f).collect();
+        median(&mut values).unwrap_or(f64::NAN)
+    };
     println!(
         "| suite median ({} scenes) | {:.0} | {:.2} | {:.2} | {:.2} | {:.0} | {:.0} |",
         suite.len(),
