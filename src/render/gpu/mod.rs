@@ -256,7 +256,7 @@ impl Gpu {
         &self,
         slot: &mut Option<wgpu::Buffer>,
         requests: &[FrameRequest<'_>],
-        ordered: &[(Cow<'_, [Vertex]>, DrawOrder)],
+        ordered: &[OrderedMesh<'_>],
     ) -> Vec<u32> {
         let total_bytes: u64 = ordered
             .iter()
@@ -281,12 +281,15 @@ impl Gpu {
     }
 }
 
+/// A frame's vertices in their drawing order, and that order.
+type OrderedMesh<'a> = (Cow<'a, [Vertex]>, DrawOrder);
+
 /// The pixel layout of a submission's frames and each frame's vertices in its drawing order:
 /// nearer blocks first where the one-word pixel has the pipelines for it.
 fn in_draw_order<'a>(
     requests: &[FrameRequest<'a>],
     msaa: u32,
-) -> (PixelLayout, Vec<(Cow<'a, [Vertex]>, DrawOrder)>) {
+) -> (PixelLayout, Vec<OrderedMesh<'a>>) {
     let max_id = requests
         .iter()
         .flat_map(|r| r.vertices.iter().map(|v| v.block_id))
