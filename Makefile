@@ -12,6 +12,10 @@ SLURM_PKGS := slurm-wlm munge
 # kubernetes-validate (PyPI, bundles the Kubernetes schemas) for scripts/k8s_generate_job.yaml.
 K8S_VALIDATE_VERSION := 1.37.0
 K8S_VALIDATE_DIR := target/kubernetes-validate
+# The vision tools' own loaders for tests/export_formats.rs (docs/exports.md "Checks"):
+# pycocotools reads the COCO export, Hugging Face datasets the image folder (PyPI, pinned).
+VISION_VENV := target/vision-venv
+VISION_PKGS := pycocotools==2.0.11 datasets==5.2.0 numpy==2.4.6 pillow==13.0.0
 # Blender as a Python module (PyPI bpy, about 860 MB installed) for the yardstick of
 # docs/yardstick.md; only `make blender` installs it, never `make test`.
 BLENDER_BPY_VERSION := 4.2.23
@@ -63,6 +67,11 @@ setup:
 		$(K8S_VALIDATE_DIR)/bin/pip install --quiet --disable-pip-version-check \
 			kubernetes-validate==$(K8S_VALIDATE_VERSION); \
 	fi
+	@if ! $(VISION_VENV)/bin/python -c "import pycocotools, datasets" >/dev/null 2>&1; then \
+		echo "installing $(VISION_PKGS) into $(VISION_VENV)"; \
+		rm -rf $(VISION_VENV) && python3 -m venv $(VISION_VENV) && \
+		$(VISION_VENV)/bin/pip install --quiet --disable-pip-version-check $(VISION_PKGS); \
+	fi
 
 # Runs the main job on the built-in example (scenes/thesis_sample.json) into out/demo.
 demo: setup
@@ -77,7 +86,7 @@ test: setup
 		trap 'scripts/slurm_local.sh down' EXIT && scripts/slurm_local.sh up; \
 	fi && \
 	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_SLURM=1 BLOCKWORLD_REQUIRE_K8S_VALIDATE=1 \
-		$(CARGO) test --all-targets && \
+		BLOCKWORLD_REQUIRE_VISION_TOOLS=1 $(CARGO) test --all-targets && \
 	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --doc && \
 	$(CARGO) run --quiet --example recognize_scene -- scenes/two_layer.json
 

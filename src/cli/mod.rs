@@ -61,7 +61,7 @@ pub enum Command {
     Label(commands::label::Args),
     /// Kanade's model against the modified model on the same drawings (thesis Figs. 6.17, 6.18).
     Compare(commands::compare::Args),
-    /// Export a dataset's exact line drawings for wireframe parsers (HAWP, L-CNN, LETR).
+    /// Export a dataset for wireframe parsers (HAWP, L-CNN, LETR) or vision tools (COCO, Hugging Face).
     ExportDataset(commands::export_dataset::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),

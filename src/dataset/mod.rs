@@ -9,6 +9,7 @@
 //! same bytes. `writer` and `wireframe` are the parts that do file I/O.
 
 mod error;
+mod export_files;
 mod families;
 mod generate;
 mod lock;
@@ -16,6 +17,7 @@ mod manifest;
 mod memory;
 mod placement;
 mod shard;
+mod vision_export;
 mod wireframe;
 mod writer;
 
@@ -25,6 +27,7 @@ pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpe
 pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 pub use memory::keep_freed_pictures_in_heap;
 pub use shard::{Shard, ShardError};
+pub use vision_export::{export_vision, VisionExportSummary, VisionFormat};
 pub use wireframe::{export_wireframes, WireframeExportOptions, WireframeExportSummary};
 pub use writer::{
     generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,

@@ -16,10 +16,13 @@
 //! left (`writer::remove_temporaries`, as `generate` does). The pictures and records of a scene
 //! are made by [`scene_part`] from bytes in memory; the file I/O is at the edges.
 
-use super::lock::lock_dataset;
+use super::export_files::{
+    lock_export, part_is_complete, push_json, read_checked, read_manifest, read_part, views_of,
+    PARTS_DIR,
+};
 use super::manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 use super::writer::{io_err, remove_temporaries};
-use super::{DatasetError, Shard};
+use super::DatasetError;
 use crate::drawing::LineDrawing;
 use crate::export::wireframe::{
     hawp_test_record, hawp_train_record, lcnn_record, letr_annotations, letr_document, letr_image,
@@ -33,8 +36,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-/// The part files' folder in OUT: one resume record per scene.
-const PARTS_DIR: &str = ".parts";
 /// The options stamp of an export folder.
 const STAMP_FILE: &str = "export.json";
 
@@ -90,11 +91,7 @@ pub fn export_wireframes(
     let manifest_path = dataset.join(MANIFEST_NAME);
     let manifest = read_manifest(&manifest_path)?;
     let entries = parse_manifest(&String::from_utf8_lossy(&manifest), &manifest_path)?;
-    std::fs::create_dir_all(out).map_err(io_err(out))?;
-    let _lock = lock_dataset(out, Shard::WHOLE).map_err(|e| match e {
-        DatasetError::Locked { path, holder } => DatasetError::ExportLocked { path, holder },
-        other => other,
-    })?;
+    let _lock = lock_export(out)?;
     prepare_output(out, opts, &sha256_hex(&manifest))?;
     let mut summary = export_scenes(dataset, out, opts, &entries, progress)?;
     let (images, lines, left_out) = assemble(out, opts.format, &entries)?;
@@ -103,14 +100,6 @@ pub fn export_wireframes(
     summary.lines = lines;
     summary.left_out = left_out;
     Ok(summary)
-}
-
-/// Reads `DATASET/manifest.jsonl`.
-fn read_manifest(path: &Path) -> Result<Vec<u8>, DatasetError> {
-    std::fs::read(path).map_err(|e| DatasetError::Input {
-        path: path.to_path_buf(),
-        message: format!("{e}; finish the dataset first (re-run its `blockworld generate`, or `blockworld merge` for shards)"),
-    })
 }
 
 /// The folders of an export in `format`, OUT itself first.
@@ -361,55 +350,6 @@ fn format_record(format: WireframeFormat, split: Split, filename: &str, wf: &Wir
     }
 }
 
-/// Whether an earlier run finished the scene: its part file reads and every picture it lists
-/// is there with the sha256 it lists (like `generate`'s resume, docs/datasets.md "Settling").
-fn part_is_complete(part_path: &Path, out: &Path) -> bool {
-    let Ok(text) = std::fs::read_to_string(part_path) else {
-        return false;
-    };
-    let Ok(part) = serde_json::from_str::<Value>(&text) else {
-        return false;
-    };
-    let Some(images) = part["images"].as_object() else {
-        return false;
-    };
-    images.iter().all(|(relative, sha)| {
-        std::fs::read(out.join(relative))
-            .is_ok_and(|bytes| sha.as_str() == Some(sha256_hex(&bytes).as_str()))
-    })
-}
-
-/// The views of a scene: every `lines_<v>.json` in its manifest line that has a `view_<v>.png`.
-fn views_of(entry: &ManifestEntry) -> Vec<String> {
-    entry
-        .files
-        .keys()
-        .filter_map(|name| name.strip_prefix("lines_")?.strip_suffix(".json"))
-        .filter(|v| entry.files.contains_key(&format!("view_{v}.png")))
-        .map(str::to_string)
-        .collect()
-}
-
-/// Reads `dir/name` and refuses it when its sha256 differs from the manifest's.
-fn read_checked(dir: &Path, entry: &ManifestEntry, name: &str) -> Result<Vec<u8>, DatasetError> {
-    let path = dir.join(name);
-    let bytes = std::fs::read(&path).map_err(|e| DatasetError::Input {
-        path: path.clone(),
-        message: format!(
-            "{e}: the dataset is incomplete; re-run the `blockworld generate` command that made it"
-        ),
-    })?;
-    let want = entry.files.get(name).map(String::as_str).unwrap_or("");
-    let got = sha256_hex(&bytes);
-    if got != want {
-        return Err(DatasetError::Input {
-            path,
-            message: format!("sha256 {got} does not match {MANIFEST_NAME} ({want}); the dataset is damaged: re-run the `blockworld generate` command that made it (it redoes scenes whose files fail their hash)"),
-        });
-    }
-    Ok(bytes)
-}
-
 fn split_name(split: Split) -> &'static str {
     match split {
         Split::Train => "train",
@@ -423,13 +363,6 @@ fn split_name(split: Split) -> &'static str {
 struct SplitText {
     items: String,
     annotations: String,
-}
-
-fn push_json(list: &mut String, item: &Value) {
-    if !list.is_empty() {
-        list.push(',');
-    }
-    list.push_str(&item.to_string());
 }
 
 /// Joins the part files, in scene order, into the format's annotation files; returns the
@@ -474,16 +407,6 @@ fn assemble(
         write_atomic(&path, doc.as_bytes()).map_err(io_err(&path))?;
     }
     Ok((images, lines, left_out))
-}
-
-/// Reads a scene's part file.
-fn read_part(out: &Path, entry: &ManifestEntry) -> Result<Value, DatasetError> {
-    let path = out.join(PARTS_DIR).join(format!("{}.json", entry.id));
-    let text = std::fs::read_to_string(&path).map_err(io_err(&path))?;
-    serde_json::from_str(&text).map_err(|e| DatasetError::Input {
-        path,
-        message: format!("{e}: damaged; delete it and re-run to redo the scene"),
-    })
 }
 
 fn line_count(record: &Value) -> usize {

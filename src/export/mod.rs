@@ -8,7 +8,7 @@
 //! at from any viewpoint outside blockworld.
 //!
 //! Beside it, the vision-tool exports of a dataset's views (docs/exports.md "Exports for vision
-//! tools (COCO)"): [`coco`] records from [`masks`] (exact visible masks from the id pictures, full
+//! tools (COCO, Hugging Face)"): [`coco`] records from [`masks`] (exact visible masks from the id pictures, full
 //! masks from projected silhouettes, COCO run lengths) and cameras in [`opencv`]'s convention.
 //!
 //! Units and axes: glTF is metres, +y up, right-handed. Those are blockworld's axes (docs/formats.md

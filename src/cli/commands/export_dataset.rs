@@ -2,11 +2,14 @@
 //! [--split-seed S] [--rgb] [--jobs N]` (docs/wireframe.md "Wireframe datasets"): a generated
 //! dataset's exact line drawings as training sets for learned wireframe parsers. The work is
 //! `dataset::export_wireframes`; this command parses the flags, shows progress and prints the
-//! summary.
+//! summary. `--format coco|hf` exports the views for vision tools (docs/exports.md) through
+//! `dataset::export_vision`.
 
 use crate::cli::progress::with_progress;
-use anyhow::Context;
-use blockworld::dataset::{export_wireframes, WireframeExportOptions, WireframeExportSummary};
+use anyhow::{bail, Context};
+use blockworld::dataset::{
+    export_vision, export_wireframes, VisionFormat, WireframeExportOptions, WireframeExportSummary,
+};
 use blockworld::export::wireframe::WireframeFormat;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -20,15 +23,21 @@ pub enum FormatArg {
     Lcnn,
     /// LETR (COCO style): train2017/, val2017/, annotations/lines_{train2017,val2017}.json.
     Letr,
+    /// COCO instances (block masks, boxes, categories): images/, annotations/instances.json.
+    Coco,
+    /// Hugging Face image folder: train/ with the pictures and metadata.jsonl.
+    Hf,
 }
 
 impl FormatArg {
-    /// The library's format.
-    pub fn format(self) -> WireframeFormat {
+    /// The library's wireframe format, or the vision-tool format (docs/exports.md).
+    pub fn format(self) -> Result<WireframeFormat, VisionFormat> {
         match self {
-            FormatArg::Hawp => WireframeFormat::Hawp,
-            FormatArg::Lcnn => WireframeFormat::Lcnn,
-            FormatArg::Letr => WireframeFormat::Letr,
+            FormatArg::Hawp => Ok(WireframeFormat::Hawp),
+            FormatArg::Lcnn => Ok(WireframeFormat::Lcnn),
+            FormatArg::Letr => Ok(WireframeFormat::Letr),
+            FormatArg::Coco => Err(VisionFormat::Coco),
+            FormatArg::Hf => Err(VisionFormat::HuggingFace),
         }
     }
 }
@@ -75,6 +84,9 @@ pub struct ExportSummary {
 
 /// Runs `blockworld export-dataset`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Err(format) = args.format.format() {
+        return run_vision(&args, format);
+    }
     let ExportSummary { summary: s, wall_s } = export(&args)?;
     for note in &s.left_out_notes {
         eprintln!("export-dataset: {note}");
@@ -94,10 +106,41 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Exports the dataset in a vision-tool format (`dataset::export_vision`, docs/exports.md) with
+/// progress on stderr, and says what it did.
+fn run_vision(args: &Args, format: VisionFormat) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let s = with_progress("export-dataset", "scenes", 0, |progress| {
+        export_vision(&args.dataset, &args.output, format, args.jobs, progress)
+    })
+    .with_context(|| format!("exporting {}", args.dataset.display()))?;
+    let a = s.agreement;
+    println!(
+        "{} scenes ({} kept from an earlier run): {} images, {} annotations; full masks against the id pictures: {} visible px outside, {} px on the background, of {} px; {:.2} s -> {}",
+        s.scenes,
+        s.resumed,
+        s.images,
+        s.annotations,
+        a.visible_outside_px,
+        a.silhouette_on_background_px,
+        a.silhouette_px,
+        started.elapsed().as_secs_f64(),
+        args.output.display()
+    );
+    Ok(())
+}
+
 /// Exports the dataset (`dataset::export_wireframes`) with progress on stderr.
 pub fn export(args: &Args) -> anyhow::Result<ExportSummary> {
+    let format = match args.format.format() {
+        Ok(f) => f,
+        Err(v) => bail!(
+            "--format {} is not a wireframe format; run `blockworld export-dataset` for it",
+            v.name()
+        ),
+    };
     let opts = WireframeExportOptions {
-        format: args.format.format(),
+        format,
         split: args.split,
         split_seed: args.split_seed,
         rgb: args.rgb,

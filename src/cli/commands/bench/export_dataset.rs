@@ -49,7 +49,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let s = result?;
         println!(
             "| {} | {} | {} | {} | {:.2} | {:.1} |",
-            format.format().name(),
+            format.format().map_or_else(|v| v.name(), |w| w.name()),
             if rgb { "rgb" } else { "gray" },
             s.summary.new_images,
             s.summary.lines,

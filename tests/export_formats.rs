@@ -1,0 +1,182 @@
+//! `blockworld export-dataset --format coco|hf` checked by the tools' own code (docs/exports.md
+//! "Checks"): a small rendered dataset is exported, and `tests/python/check_exports.py` loads it
+//! with pycocotools (every mask against the id pictures, COCOeval of the truth against itself
+//! and against a shifted copy) and with Hugging Face `datasets` (the image folder, offline).
+//!
+//! Needs the renderer (skips without it unless `BLOCKWORLD_REQUIRE_GPU` is set) and the venv
+//! `make setup` installs in target/vision-venv (skips without it unless CI or
+//! `BLOCKWORLD_REQUIRE_VISION_TOOLS` is set, as `make test` does).
+
+mod common;
+use common::{blockworld, ok, renderer, root};
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The venv's Python with pycocotools and datasets, or `None` after a loud skip; a failure in CI
+/// or with `BLOCKWORLD_REQUIRE_VISION_TOOLS` set.
+fn vision_python() -> Option<PathBuf> {
+    let python = root().join("target/vision-venv/bin/python");
+    let usable = Command::new(&python)
+        .args(["-c", "import pycocotools, datasets"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if usable {
+        return Some(python);
+    }
+    let required = std::env::var_os("CI").is_some()
+        || std::env::var_os("BLOCKWORLD_REQUIRE_VISION_TOOLS").is_some();
+    if required {
+        panic!(
+            "{} cannot import pycocotools and datasets: run make setup",
+            python.display()
+        );
+    }
+    eprintln!(
+        "SKIPPED: no {} with pycocotools and datasets (make setup installs it)",
+        python.display()
+    );
+    None
+}
+
+/// A small rendered dataset: 6 scenes of several families, four 200 x 160 views each.
+fn dataset(dir: &Path) {
+    ok(blockworld([
+        "generate",
+        "--count",
+        "6",
+        "--seed",
+        "5",
+        "--jobs",
+        "1",
+        "--size",
+        "200x160",
+        "-o",
+        dir.to_str().unwrap(),
+    ]));
+}
+
+fn export(dataset: &Path, format: &str, out: &Path, jobs: &str) -> Output {
+    blockworld([
+        "export-dataset",
+        dataset.to_str().unwrap(),
+        "--format",
+        format,
+        "-o",
+        out.to_str().unwrap(),
+        "--jobs",
+        jobs,
+    ])
+}
+
+/// Runs `tests/python/check_exports.py` `kind` on `dataset` and its export `out`.
+fn run_python_check(python: &Path, kind: &str, dataset: &Path, out: &Path) -> Output {
+    Command::new(python)
+        .arg(root().join("tests/python/check_exports.py"))
+        .args([kind, dataset.to_str().unwrap(), out.to_str().unwrap()])
+        .env("HF_HOME", out.join(".hf-cache"))
+        .output()
+        .expect("runs python")
+}
+
+/// Runs the Python check of `kind` and returns its one-line JSON report.
+fn python_check(python: &Path, kind: &str, dataset: &Path, out: &Path) -> serde_json::Value {
+    let stdout = ok(run_python_check(python, kind, dataset, out));
+    serde_json::from_str(stdout.lines().last().unwrap_or(""))
+        .unwrap_or_else(|e| panic!("{e}: {stdout}"))
+}
+
+#[test]
+fn coco_and_hf_exports_load_in_the_tools_and_match_the_id_pictures() {
+    if renderer().is_none() {
+        return;
+    }
+    let Some(python) = vision_python() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    dataset(&ds);
+    let coco = dir.path().join("coco");
+    let summary = ok(export(&ds, "coco", &coco, "2"));
+    assert!(
+        summary.contains("6 scenes (0 kept from an earlier run): 24 images"),
+        "{summary}"
+    );
+    let report = python_check(&python, "coco", &ds, &coco);
+    eprintln!("coco: {report}");
+    assert_eq!(report["images"], 24);
+    assert_eq!(report["masks_exact"], report["annotations"]);
+    assert_eq!(report["ap_segm_truth"], 1.0);
+    assert!(report["ap_segm_shifted"].as_f64().unwrap() < 1.0);
+    assert!(report["ap_bbox_shifted"].as_f64().unwrap() < 1.0);
+    let hf = dir.path().join("hf");
+    ok(export(&ds, "hf", &hf, "1"));
+    let report = python_check(&python, "hf", &ds, &hf);
+    eprintln!("hf: {report}");
+    assert_eq!(report["rows"], 24);
+    // The checks can fail: the top row of a block's pixels turned to floor in an id picture
+    // makes its decoded mask (COCO) and its box (HF) differ from the export.
+    let ids_path = ds.join("s000000/ids_ne.png");
+    let mut ids = image::open(&ids_path).unwrap().to_luma16();
+    let w = ids.width() as usize;
+    let first = ids.as_raw().iter().position(|&v| v != 0).unwrap();
+    let (row, id) = (first / w, ids.as_raw()[first]);
+    for c in 0..w {
+        if ids.get_pixel(c as u32, row as u32).0[0] == id {
+            ids.put_pixel(c as u32, row as u32, image::Luma([0]));
+        }
+    }
+    ids.save(&ids_path).unwrap();
+    for (kind, out, why) in [("coco", &coco, "pixels differ"), ("hf", &hf, "boxes")] {
+        let run = run_python_check(&python, kind, &ds, out);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success() && err.contains(why), "{kind}: {err}");
+    }
+}
+
+#[test]
+fn coco_export_is_deterministic_resumable_and_refuses_a_damaged_dataset() {
+    if renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    dataset(&ds);
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    ok(export(&ds, "coco", &a, "1"));
+    ok(export(&ds, "coco", &b, "3"));
+    let doc = |d: &Path| std::fs::read(d.join("annotations/instances.json")).unwrap();
+    assert_eq!(doc(&a), doc(&b), "the bytes depend on --jobs");
+    // Full masks against the id pictures: no visible pixel outside its silhouette, and at
+    // most a few pixel centres on an edge that the GPU's rounding puts on the other side.
+    let summary = ok(export(&ds, "coco", &a, "2"));
+    assert!(
+        summary.contains("(6 kept from an earlier run)"),
+        "{summary}"
+    );
+    assert!(summary.contains(" 0 visible px outside"), "{summary}");
+    let on_background: u64 = summary
+        .split(" visible px outside, ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert!(on_background <= 20, "{summary}");
+    assert_eq!(doc(&a), doc(&b));
+    // A damaged id picture is refused with its path and exit 2, and nothing is written.
+    let ids = ds.join("s000001/ids_se.png");
+    let mut bytes = std::fs::read(&ids).unwrap();
+    let last = bytes.len() - 20;
+    bytes[last] ^= 0xff;
+    std::fs::write(&ids, &bytes).unwrap();
+    let fresh = dir.path().join("c");
+    let out = export(&ds, "coco", &fresh, "1");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("s000001/ids_se.png") && err.contains("re-run"),
+        "{err}"
+    );
+    assert!(!fresh.join("annotations/instances.json").exists());
+}
