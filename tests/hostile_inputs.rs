@@ -186,3 +186,35 @@ fn view_shade_beyond_its_cap_is_refused() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// Regression: `label` refused a drawing whose `kinds` list had another length than its lines,
+/// although its help says the fields beside `points` and `lines` are ignored; and `recognize`
+/// of a folder that does not exist reported its first camera file missing.
+#[test]
+fn label_ignores_other_fields_and_recognize_names_a_missing_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("l.json");
+    let drawing =
+        r#"{"points": [[0, 0], [10, 0], [0, 10]], "lines": [[0, 1], [0, 2]], "kinds": ["convex"]}"#;
+    std::fs::write(&path, drawing).unwrap();
+    let o = blockworld(["label", &path.to_string_lossy()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let missing = dir.path().join("no_such_folder");
+    let out = dir.path().join("r.json");
+    let err = fails_with_2(&blockworld([
+        "recognize",
+        &missing.to_string_lossy(),
+        "--from-truth",
+        "-o",
+        &out.to_string_lossy(),
+    ]));
+    assert!(
+        err.contains("no_such_folder: no such folder") && !err.contains("camera_ne.json: missing"),
+        "{err}"
+    );
+}

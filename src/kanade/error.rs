@@ -21,6 +21,14 @@ pub enum KanadeError {
         /// The line.
         line: usize,
     },
+    /// Two lines join the same two points (the same line twice, or once reversed).
+    #[error("lines {first} and {second} join the same two points; remove line {second}")]
+    DuplicateLine {
+        /// The first of the two.
+        first: usize,
+        /// The repeat.
+        second: usize,
+    },
     /// A coordinate is NaN or infinite.
     #[error(
         "point {point} has a coordinate that is not a finite number; give it finite x and y in px"

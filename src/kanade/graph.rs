@@ -57,7 +57,9 @@ impl Region {
     }
 }
 
-/// Checks that every line joins two different existing points and every coordinate is finite.
+/// Checks that every line joins two different existing points, no two lines join the same
+/// pair of points (in either direction: a junction would count the line twice), and every
+/// coordinate is finite.
 pub fn validate(d: &LineDrawing) -> Result<(), KanadeError> {
     if let Some(i) = d.points.iter().position(|p| !p.is_finite()) {
         return Err(KanadeError::NonFinitePoint { point: i });
@@ -74,6 +76,13 @@ pub fn validate(d: &LineDrawing) -> Result<(), KanadeError> {
         if a == b || d.points[a] == d.points[b] {
             return Err(KanadeError::DegenerateLine { line: i });
         }
+    }
+    let mut seen = std::collections::HashMap::with_capacity(d.lines.len());
+    for (i, &[a, b]) in d.lines.iter().enumerate() {
+        if let Some(&first) = seen.get(&(a.min(b), a.max(b))) {
+            return Err(KanadeError::DuplicateLine { first, second: i });
+        }
+        seen.insert((a.min(b), a.max(b)), i);
     }
     Ok(())
 }
@@ -322,5 +331,23 @@ mod tests {
             validate(&d),
             Err(KanadeError::DegenerateLine { .. })
         ));
+    }
+
+    /// Regression: a line given twice, or once reversed, made its end points four-line
+    /// junctions (each copy counted); the labeller refuses it, naming both lines.
+    #[test]
+    fn a_line_given_twice_is_refused() {
+        let points = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        for repeat in [[0, 1], [1, 0]] {
+            let d = drawing(&points, &[[0, 1], [0, 2], repeat]);
+            assert_eq!(
+                validate(&d),
+                Err(KanadeError::DuplicateLine {
+                    first: 0,
+                    second: 2
+                })
+            );
+        }
+        assert!(validate(&drawing(&points, &[[0, 1], [0, 2], [1, 2]])).is_ok());
     }
 }

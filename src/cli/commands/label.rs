@@ -4,7 +4,6 @@
 //! hand-made `{"points": [[x, y], ...], "lines": [[i, j], ...]}` (px, x right, y up), read and
 //! checked by `LineDrawing::from_json`; the labeller also refuses zero-length lines.
 
-use crate::cli::files::read_drawing;
 use anyhow::Context;
 use blockworld::drawing::LineDrawing;
 use blockworld::kanade::{label_drawing, Catalog, LabelOptions, LabelReport, LineLabel};
@@ -47,7 +46,7 @@ fn parse_catalog(s: &str) -> Result<Catalog, String> {
 
 /// Runs `blockworld label`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let d = read_drawing(&args.drawing)?;
+    let d = read_points_and_lines(&args.drawing)?;
     let opts = LabelOptions {
         catalog: args.catalog,
         boundary_occluding: args.boundary_occluding,
@@ -84,6 +83,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         print!("{}", report_text(&args.drawing, &d, &report, elapsed_ms));
     }
     Ok(())
+}
+
+/// Reads the drawing's `points` and `lines` only, as the help promises: its other fields
+/// (`kinds`, `codes`, `junctions`, ...) are ignored, so a `kinds` list of another length does
+/// not stop the labelling; codes and junctions come from the geometry.
+fn read_points_and_lines(path: &Path) -> anyhow::Result<LineDrawing> {
+    let text =
+        blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
+    let value: serde_json::Value = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: not JSON; give a drawing {{\"points\": [[x, y], ...], \"lines\": [[i, j], ...]}}",
+            path.display()
+        )
+    })?;
+    let kept = serde_json::json!({ "points": value["points"], "lines": value["lines"] });
+    LineDrawing::from_json(&kept.to_string()).with_context(|| format!("{}", path.display()))
 }
 
 /// One labelling as one symbol per line: `+ - > < c`, `?` for a free line.

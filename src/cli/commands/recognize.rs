@@ -99,6 +99,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })
         .collect();
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    if !args.dir.is_dir() {
+        anyhow::bail!(
+            "{}: no such folder; give the folder `blockworld render` wrote (camera_<v>.json with view_<v>.png or lines_<v>.json per view)",
+            args.dir.display()
+        );
+    }
     crate::cli::files::check_output(&args.output, &inputs)?;
     let (observed, pictures): (Vec<ObservedView>, Vec<Option<image::GrayImage>>) = views
         .iter()
