@@ -12,6 +12,7 @@ use super::constraints::{curved_chain_lines, floating_blocks, lines_off_the_axes
 use super::direct::{direct_hypothesis_within, Silhouettes};
 use super::parallelogram::{Face, ParallelogramSearch};
 use super::picture::{pictures_mismatch, without_weak_lines, ViewPicture};
+use super::placement::placed_by_all_views;
 use super::repair::repaired_in_pictures;
 use super::select::select_vertices;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
@@ -246,6 +247,33 @@ fn checks_in_pictures(
         .iter()
         .map(ViewMismatch::counts)
         .collect()
+}
+
+/// `h` with its groups of touching blocks placed by every view at once
+/// ([`placed_by_all_views`]), when the placed blocks explain the views at least as well (by the
+/// picture-aware check when the views' pictures are given); else `h`.
+pub(super) fn placed_answer(
+    h: Hypothesis,
+    views: &[ObservedView],
+    pictures: &[ViewPicture],
+    tol_px: f64,
+) -> Hypothesis {
+    let blocks = placed_by_all_views(&h.blocks, &h.drawn, views, tol_px);
+    if blocks == h.blocks {
+        return h;
+    }
+    let placed = Hypothesis::new(blocks, views, tol_px);
+    let left = |x: &Hypothesis| -> usize {
+        checks_in_pictures(x, views, pictures, tol_px)
+            .iter()
+            .map(ViewCheck::mismatch)
+            .sum()
+    };
+    if placed.mismatch() <= h.mismatch() && left(&placed) <= left(&h) {
+        placed
+    } else {
+        h
+    }
 }
 
 /// `h` without every block that draws a line no observed line explains, in some view (a

@@ -30,6 +30,7 @@ mod constraints;
 mod direct;
 mod parallelogram;
 mod picture;
+mod placement;
 mod repair;
 mod select;
 mod trapezoid;
@@ -59,7 +60,7 @@ use answer::Decline;
 use catalog_match::touching_pairs;
 use compare::SearchLimits;
 use flow::{check_directions, check_drawing, drop_weak_off_axis_lines, final_checks};
-use flow::{find_hypothesis, normalize_views, read_pictures};
+use flow::{find_hypothesis, normalize_views, placed_answer, read_pictures};
 
 /// Blocks closer than this in mm are one candidate, share a layer, touch, or rest on each
 /// other (far below any catalog size, far above the measurement error).
@@ -114,6 +115,7 @@ pub fn recognize_in_pictures(
     };
     let search = (&limits, trapezoids);
     let h = find_hypothesis(views, opts, search, &pictures, &mut evidence);
+    let h = placed_answer(h, views, &pictures, opts.tol_px);
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;
