@@ -419,6 +419,42 @@ fn bin(value: f64, steps: &[(f64, &str)], last: &str) -> String {
         .to_string()
 }
 
+/// The weakest step between the blocks and the floor the draw puts in a picture, gray levels:
+/// over the four views and the three block faces each sees (the top and the two sides facing
+/// the camera), the smallest difference between the face and the floor, each lit by every
+/// light that faces it (Lambert, no cast shadow, no gloss) plus the ambient, at the mean block
+/// albedo and the floor albedo, through the draw's gain (255 levels, clipped at white). A
+/// face lit like the floor beside it draws a faint outline whatever the albedos: a shaded side
+/// of a light block on a dark floor can match it. Chapter VI's threshold of 80 on the smoothed
+/// Sobel magnitude answers to a step of 20 levels.
+pub fn outline_contrast_levels(draw: &LookDraw) -> f64 {
+    let mean_block =
+        draw.block_albedos.iter().sum::<f64>() / draw.block_albedos.len().max(1) as f64;
+    let level = |albedo: f64, normal: DVec3, seen: &[ViewLight]| {
+        let lit: f64 = draw
+            .lights
+            .iter()
+            .zip(seen)
+            .map(|(l, v)| l.intensity * normal.dot(DVec3::from_array(v.towards_light)).max(0.0))
+            .sum();
+        255.0 * (draw.sensor.gain * albedo * (draw.ambient + lit)).min(1.0)
+    };
+    CornerView::ALL
+        .iter()
+        .filter_map(|v| {
+            let seen = draw.views.get(v.name())?;
+            let [x, _, z] = towards_bearing(v.azimuth_deg(), 0.0);
+            let faces = [DVec3::Y, DVec3::X * x.signum(), DVec3::Z * z.signum()];
+            let floor = level(draw.floor_albedo, DVec3::Y, seen);
+            faces
+                .iter()
+                .map(|&n| (level(mean_block, n, seen) - floor).abs())
+                .reduce(f64::min)
+        })
+        .reduce(f64::min)
+        .unwrap_or(0.0)
+}
+
 /// The bin of every factor of `draw` (docs/varied-look.md "Factors and bins").
 pub fn factor_bins(draw: &LookDraw) -> BTreeMap<String, String> {
     let key = draw.lights.first();
@@ -432,9 +468,7 @@ pub fn factor_bins(draw: &LookDraw) -> BTreeMap<String, String> {
         .values()
         .filter(|ls| ls.first().is_some_and(|l| l.off_camera_deg > 100.0))
         .count();
-    let mean_block =
-        draw.block_albedos.iter().sum::<f64>() / draw.block_albedos.len().max(1) as f64;
-    let contrast = (mean_block - draw.floor_albedo).abs();
+    let contrast = outline_contrast_levels(draw);
     let noise_e = draw
         .sensor
         .full_well_e
@@ -456,7 +490,7 @@ pub fn factor_bins(draw: &LookDraw) -> BTreeMap<String, String> {
             &[(0.15, "0-0.15 mm"), (0.35, "0.15-0.35 mm")],
             "0.35-0.5 mm",
         ),
-        bin(contrast, &[(0.15, "low"), (0.4, "medium")], "high"),
+        bin(contrast, &[(10.0, "low"), (25.0, "medium")], "high"),
         bin(draw.gloss, &[(1e-9, "matte")], "glossy"),
         bin(
             draw.sensor.exposure,
@@ -528,6 +562,44 @@ mod tests {
         assert!((window.in_view(CornerView::Sw).off_camera_deg - 135.0).abs() < 1e-9);
         let [x, y, z] = towards_bearing(90.0, 0.0);
         assert!((x - 1.0).abs() < 1e-12 && y.abs() < 1e-12 && z.abs() < 1e-12);
+    }
+
+    /// The contrast bin reads the drawn light, not the albedos alone: a light block on a dark
+    /// floor lit from straight above (its sides get the ambient only) draws a faint outline.
+    #[test]
+    fn the_outline_contrast_is_the_weakest_face_against_the_floor() {
+        let mut d = LookDraw::draw(33, 1, 35.0);
+        d.lights.truncate(1);
+        d.lights[0].elevation_deg = 90.0;
+        d.lights[0].intensity = 0.7;
+        d.ambient = 0.0;
+        d.block_albedos = vec![0.9];
+        d.floor_albedo = 0.1;
+        d.sensor.gain = 1.0;
+        d.views = CornerView::ALL
+            .iter()
+            .map(|v| (v.name().to_string(), vec![d.lights[0].in_view(*v)]))
+            .collect();
+        // Sides unlit (0) against a floor at 0.07: 17.85 levels.
+        assert!((outline_contrast_levels(&d) - 17.85).abs() < 1e-6);
+        assert_eq!(factor_bins(&d)["contrast"], "medium");
+        // A lamp beside the camera at 30 degrees lights every visible face brighter.
+        d.lights[0].placement = Placement::Camera;
+        d.lights[0].bearing_deg = 0.0;
+        d.lights[0].elevation_deg = 30.0;
+        d.views = CornerView::ALL
+            .iter()
+            .map(|v| (v.name().to_string(), vec![d.lights[0].in_view(*v)]))
+            .collect();
+        assert!(
+            outline_contrast_levels(&d) > 25.0,
+            "{}",
+            outline_contrast_levels(&d)
+        );
+        assert_eq!(factor_bins(&d)["contrast"], "high");
+        d.ambient = 0.0;
+        d.floor_albedo = 0.9;
+        assert_eq!(factor_bins(&d)["contrast"], "low");
     }
 
     #[test]
