@@ -5,9 +5,12 @@
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 
-/// A line within this many degrees of vertical is "up" or "down".
+/// A line within this many degrees of vertical is "up" or "down": every vertical block edge,
+/// also leaning in a 30° perspective view (up to 14°), and 45° from the horizontal edges
+/// (docs/vision.md "Tolerances").
 pub const VERTICAL_TOL_DEG: f64 = 15.0;
-/// A line within this many degrees of horizontal falls in no direction: flagged, not guessed.
+/// A line within this many degrees of horizontal falls in no direction: flagged, not guessed (a
+/// face seen edge-on; about the angle error of the shortest edge, docs/vision.md "Tolerances").
 pub const HORIZONTAL_TOL_DEG: f64 = 2.0;
 
 /// One of the six edge directions at a vertex, numbered by its bit (Chapter IV).

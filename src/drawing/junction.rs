@@ -4,7 +4,9 @@
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 
-/// Two lines leaving a point are collinear (opposite) within this many degrees of 180.
+/// Two lines leaving a point are collinear (opposite) within this many degrees of 180: the two
+/// fitted pieces of an edge split at a collinear T (Chapter V, Figure 5.1) disagree by less,
+/// other lines at a corner by 60° (docs/vision.md "Tolerances").
 pub const COLLINEAR_TOL_DEG: f64 = 3.0;
 
 /// The class of a junction by the number and arrangement of its lines.

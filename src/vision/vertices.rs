@@ -17,9 +17,13 @@ use crate::geom::{DVec2, UnionFind};
 /// Options of the vertex finder, in picture pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VertexOptions {
-    /// A segment end joins a line whose intersection lies this close to it. Default 7.0.
+    /// A segment end joins a line whose intersection lies this close to it. Default 7.0: twice
+    /// the 3.5 px by which the edge map's band ends a segment short of a 60° corner
+    /// (docs/vision.md "Tolerances").
     pub join_radius_px: f64,
-    /// Junction points closer than this are merged. Default 3.0.
+    /// Junction points closer than this are merged. Default 3.0: five times the 0.6 px by which
+    /// three fitted lines through one corner miss each other, a seventh of the shortest edge
+    /// (docs/vision.md "Tolerances").
     pub merge_radius_px: f64,
     /// A vertex this close to another line's interior splits that line. Default 2.0.
     pub on_line_px: f64,
