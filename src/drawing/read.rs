@@ -68,6 +68,16 @@ pub enum DrawingError {
         /// Number of lines.
         lines: usize,
     },
+    /// A line whose two points lie at the same place: it has no direction.
+    #[error("line {index} has zero length (its points {a} and {b} lie at the same place); remove it or merge its points")]
+    ZeroLength {
+        /// The line's index.
+        index: usize,
+        /// Its first point.
+        a: usize,
+        /// Its second point.
+        b: usize,
+    },
     /// `curved_lines` names a line that does not exist.
     #[error("curved_lines names line {line}, but the drawing has {lines} lines")]
     BadCurved {
@@ -117,14 +127,8 @@ impl LineDrawing {
             unclassified_lines: f.unclassified_lines.clone().unwrap_or_default(),
             curved_lines: f.curved_lines,
         };
-        d.check_indices()?;
-        let nl = d.lines.len();
-        if let Some(&line) = d.unclassified_lines.iter().find(|&&l| l >= nl) {
-            return Err(DrawingError::BadUnclassified { line, lines: nl });
-        }
-        if let Some(&line) = d.curved_lines.iter().find(|&&l| l >= nl) {
-            return Err(DrawingError::BadCurved { line, lines: nl });
-        }
+        d.check_geometry()?;
+        d.check_line_lists()?;
         if computed || f.unclassified_lines.is_none() {
             let (codes, junctions) = (d.codes.clone(), d.junctions.clone());
             d.finalize();
@@ -136,7 +140,11 @@ impl LineDrawing {
         Ok(d)
     }
 
-    fn check_indices(&self) -> Result<(), DrawingError> {
+    /// The checks of the geometry alone, for stages that compute the rest themselves (Kanade's
+    /// labelling classifies junctions from the points): every coordinate finite and within
+    /// [`MAX_POINT_COORD_PX`], every line joining two different existing points at different
+    /// places.
+    pub fn check_geometry(&self) -> Result<(), DrawingError> {
         if let Some(index) = self.points.iter().position(|p| !p.is_finite()) {
             return Err(DrawingError::NotFinite { index });
         }
@@ -154,13 +162,31 @@ impl LineDrawing {
                     points: n,
                 });
             }
+            if self.points[a] == self.points[b] {
+                return Err(DrawingError::ZeroLength { index, a, b });
+            }
         }
         Ok(())
     }
 
-    /// Checks the invariants every stage relies on (see [`DrawingError`]).
+    /// `unclassified_lines` and `curved_lines` name existing lines.
+    fn check_line_lists(&self) -> Result<(), DrawingError> {
+        let nl = self.lines.len();
+        if let Some(&line) = self.unclassified_lines.iter().find(|&&l| l >= nl) {
+            return Err(DrawingError::BadUnclassified { line, lines: nl });
+        }
+        if let Some(&line) = self.curved_lines.iter().find(|&&l| l >= nl) {
+            return Err(DrawingError::BadCurved { line, lines: nl });
+        }
+        Ok(())
+    }
+
+    /// Checks the invariants every stage relies on (see [`DrawingError`]): the one validation
+    /// of a drawing, which reading ([`LineDrawing::from_json`]) and the recognizer run;
+    /// [`LineDrawing::check_geometry`] is its first half.
     pub fn check(&self) -> Result<(), DrawingError> {
-        self.check_indices()?;
+        self.check_geometry()?;
+        self.check_line_lists()?;
         let (np, nl) = (self.points.len(), self.lines.len());
         let parallel = [
             ("codes", self.codes.len(), np, "point", false),
@@ -180,9 +206,6 @@ impl LineDrawing {
         }
         if let Some((index, c)) = self.codes.iter().enumerate().find(|(_, c)| c.0 > 63) {
             return Err(DrawingError::BadCode { index, code: c.0 });
-        }
-        if let Some(&line) = self.unclassified_lines.iter().find(|&&l| l >= nl) {
-            return Err(DrawingError::BadUnclassified { line, lines: nl });
         }
         Ok(())
     }
@@ -227,6 +250,14 @@ mod tests {
         assert!(matches!(
             bad(r#"{"points": [[0, 0], [1, 1]], "lines": [[1, 1]]}"#),
             DrawingError::BadLine { .. }
+        ));
+        assert!(matches!(
+            bad(r#"{"points": [[0, 0], [1, 1], [0, 0]], "lines": [[0, 2]]}"#),
+            DrawingError::ZeroLength {
+                index: 0,
+                a: 0,
+                b: 2
+            }
         ));
         assert!(matches!(
             bad(r#"{"points": [[0, 1e999]], "lines": []}"#),

@@ -1,26 +1,16 @@
 //! Errors of the Kanade stage: a drawing that cannot be a line drawing.
 
+use crate::drawing::DrawingError;
 use thiserror::Error;
 
 /// Why a drawing cannot be labelled. Each message says what to fix in the drawing file.
 #[derive(Debug, Error, PartialEq)]
 pub enum KanadeError {
-    /// A line names a point that does not exist.
-    #[error("line {line} names point {index}, but the drawing has {points} points (indices start at 0); fix the line or add the point")]
-    BadIndex {
-        /// The line.
-        line: usize,
-        /// The bad point index.
-        index: usize,
-        /// How many points there are.
-        points: usize,
-    },
-    /// A line joins a point to itself, or two points at the same place.
-    #[error("line {line} has zero length (both ends are the same point or at the same place); remove it or merge its points")]
-    DegenerateLine {
-        /// The line.
-        line: usize,
-    },
+    /// The drawing's geometry is broken ([`crate::drawing::LineDrawing::check_geometry`]): a
+    /// line naming a missing point or joining a point to itself or to another at the same
+    /// place, or a coordinate that is not finite.
+    #[error("{0}; fix the drawing file")]
+    Drawing(#[from] DrawingError),
     /// Two lines join the same two points (the same line twice, or once reversed).
     #[error("lines {first} and {second} join the same two points; remove line {second}")]
     DuplicateLine {
@@ -28,14 +18,6 @@ pub enum KanadeError {
         first: usize,
         /// The repeat.
         second: usize,
-    },
-    /// A coordinate is NaN or infinite.
-    #[error(
-        "point {point} has a coordinate that is not a finite number; give it finite x and y in px"
-    )]
-    NonFinitePoint {
-        /// The point.
-        point: usize,
     },
     /// More lines than the labeller takes ([`super::MAX_LABEL_LINES`]).
     #[error("the drawing has {lines} lines, more than the {max} the labeller takes; label its parts in files of at most {max} lines (separate pieces of a drawing label independently)")]

@@ -57,26 +57,12 @@ impl Region {
     }
 }
 
-/// Checks that every line joins two different existing points, no two lines join the same
-/// pair of points (in either direction: a junction would count the line twice), and every
-/// coordinate is finite.
+/// Checks the drawing's geometry ([`LineDrawing::check_geometry`], the one validation of a
+/// drawing; the labelling computes junctions from the points, so codes may be absent) and that
+/// no two lines join the same pair of points (in either direction: a junction would count the
+/// line twice).
 pub fn validate(d: &LineDrawing) -> Result<(), KanadeError> {
-    if let Some(i) = d.points.iter().position(|p| !p.is_finite()) {
-        return Err(KanadeError::NonFinitePoint { point: i });
-    }
-    for (i, &[a, b]) in d.lines.iter().enumerate() {
-        let n = d.points.len();
-        if a >= n || b >= n {
-            return Err(KanadeError::BadIndex {
-                line: i,
-                index: a.max(b),
-                points: n,
-            });
-        }
-        if a == b || d.points[a] == d.points[b] {
-            return Err(KanadeError::DegenerateLine { line: i });
-        }
-    }
+    d.check_geometry()?;
     let mut seen = std::collections::HashMap::with_capacity(d.lines.len());
     for (i, &[a, b]) in d.lines.iter().enumerate() {
         if let Some(&first) = seen.get(&(a.min(b), a.max(b))) {
@@ -272,6 +258,7 @@ fn shoelace(d: &LineDrawing, walk: &[LineEnd]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::drawing::DrawingError;
 
     fn drawing(points: &[[f64; 2]], lines: &[[usize; 2]]) -> LineDrawing {
         LineDrawing {
@@ -325,11 +312,14 @@ mod tests {
     #[test]
     fn broken_indices_are_errors_not_panics() {
         let d = drawing(&[[0.0, 0.0]], &[[0, 3]]);
-        assert!(matches!(validate(&d), Err(KanadeError::BadIndex { .. })));
+        assert!(matches!(
+            validate(&d),
+            Err(KanadeError::Drawing(DrawingError::BadLine { .. }))
+        ));
         let d = drawing(&[[0.0, 0.0], [0.0, 0.0]], &[[0, 1]]);
         assert!(matches!(
             validate(&d),
-            Err(KanadeError::DegenerateLine { .. })
+            Err(KanadeError::Drawing(DrawingError::ZeroLength { .. }))
         ));
     }
 

@@ -21,29 +21,14 @@ use super::SAME_PLACE_TOL_MM;
 use crate::drawing::LineDrawing;
 use crate::scene::{Block, ViewEvidence};
 
+/// The view's drawing checked ([`LineDrawing::check`], the one validation of a drawing).
 pub(super) fn check_drawing(view: &ObservedView) -> Result<(), RecognizeError> {
-    let d = &view.drawing;
-    let bad = |problem: String| RecognizeError::BadDrawing {
-        view: view.camera.view.name().to_string(),
-        problem,
-    };
-    if let Some(p) = d.points.iter().find(|p| !p.is_finite()) {
-        return Err(bad(format!("point {p} is not finite")));
-    }
-    if let Some(l) = d
-        .lines
-        .iter()
-        .find(|l| l.iter().any(|&i| i >= d.points.len()))
-    {
-        return Err(bad(format!(
-            "line {l:?} refers to a point beyond the {} points",
-            d.points.len()
-        )));
-    }
-    if d.codes.len() != d.points.len() || d.junctions.len() != d.points.len() {
-        return Err(bad("codes or junctions are not one per point".to_string()));
-    }
-    Ok(())
+    view.drawing
+        .check()
+        .map_err(|e| RecognizeError::BadDrawing {
+            view: view.camera.view.name().to_string(),
+            problem: e.to_string(),
+        })
 }
 
 /// Chapter VII's constraints on the observed drawings, before any search: no curved edges
