@@ -68,6 +68,31 @@ pub(super) fn uniform_layout_entry(has_dynamic_offset: bool) -> wgpu::BindGroupL
 }
 
 /// The pipelines, the frames' uniform buffer and its bind group.
+/// The frames' bind group layout and its bind group: one frame's [`FrameUniforms`] of
+/// `uniforms` at a dynamic offset.
+fn frame_bind_group(
+    device: &wgpu::Device,
+    uniforms: &wgpu::Buffer,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("frame"),
+        entries: &[uniform_layout_entry(true)],
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("frame"),
+        layout: &bgl,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: uniforms,
+                offset: 0,
+                size: std::num::NonZeroU64::new(std::mem::size_of::<FrameUniforms>() as u64),
+            }),
+        }],
+    });
+    (bgl, bind_group)
+}
+
 pub(super) fn create_pipelines(
     device: &wgpu::Device,
 ) -> (Pipelines, wgpu::Buffer, wgpu::BindGroup) {
@@ -81,22 +106,7 @@ pub(super) fn create_pipelines(
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("frame"),
-        entries: &[uniform_layout_entry(true)],
-    });
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("frame"),
-        layout: &bgl,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &uniforms,
-                offset: 0,
-                size: std::num::NonZeroU64::new(std::mem::size_of::<FrameUniforms>() as u64),
-            }),
-        }],
-    });
+    let (bgl, bind_group) = frame_bind_group(device, &uniforms);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("scene"),
         bind_group_layouts: &[Some(&bgl)],
