@@ -389,11 +389,7 @@ mod tests {
             })
             .collect();
         let scene = Scene::new("grid", blocks);
-        let pts: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
+        let pts: Vec<DVec3> = scene.world_vertices();
         let camera = Camera::frame(&pts, CornerView::Ne, &CameraOptions::default());
         let geo = SceneGeometry::new(&scene, &camera);
         assert!(geo.grid.cols * geo.grid.rows > 4, "a grid of several cells");

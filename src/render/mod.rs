@@ -287,11 +287,7 @@ impl Renderer {
                 .map(|&view| self.render_pixels_through_sensor(scene, view, opts))
                 .collect();
         }
-        let points: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
+        let points: Vec<DVec3> = scene.world_vertices();
         let cameras: Vec<Camera> = views
             .iter()
             .map(|v| Camera::frame(&points, *v, &opts.camera))

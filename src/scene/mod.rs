@@ -174,6 +174,15 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Every block's polyhedron vertices in world mm, block by block: the points a camera is
+    /// framed around (`Camera::frame`), the one home of that idiom.
+    pub fn world_vertices(&self) -> Vec<DVec3> {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.world_vertices())
+            .collect()
+    }
+
     /// A scene with the given name and blocks and no metadata.
     pub fn new(name: impl Into<String>, blocks: Vec<Block>) -> Scene {
         Scene {
@@ -191,7 +200,7 @@ impl Scene {
 
     /// World-space axis-aligned bounds (min, max) of all blocks, in mm; `None` when empty.
     pub fn bounds_mm(&self) -> Option<(DVec3, DVec3)> {
-        bounds3(self.blocks.iter().flat_map(|b| b.world_vertices()))
+        bounds3(self.world_vertices())
     }
 
     /// Checks that every block is finite, rests on or above the floor and overlaps no other

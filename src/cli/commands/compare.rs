@@ -102,11 +102,7 @@ struct Measured {
 /// the four corner views (the thesis takes four views of a complex sample), its time in ms
 /// (fastest of 3) and its 3D result scored against the truth (verdict and volume IoU).
 fn recognizer_time_ms(scene: &Scene, _drawing: &LineDrawing) -> Option<(f64, String)> {
-    let points: Vec<DVec3> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
+    let points: Vec<DVec3> = scene.world_vertices();
     let views: Vec<ObservedView> = CornerView::ALL
         .iter()
         .map(|&v| {
@@ -180,11 +176,7 @@ fn machine_line() -> String {
 }
 
 fn camera(scene: &Scene, view: CornerView) -> Camera {
-    let pts: Vec<DVec3> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
+    let pts: Vec<DVec3> = scene.world_vertices();
     Camera::frame(&pts, view, &CameraOptions::default())
 }
 

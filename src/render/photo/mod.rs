@@ -211,11 +211,7 @@ impl PhotoSetup {
 /// The camera of `view` at the rendered size, and the camera of the written picture (the
 /// same, or averaged down by `opts.downsample`).
 fn view_cameras(scene: &Scene, view: CornerView, opts: &RenderOptions) -> (Camera, Camera) {
-    let points: Vec<DVec3> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
+    let points: Vec<DVec3> = scene.world_vertices();
     let full = Camera::frame(&points, view, &opts.camera);
     let written = full.downsampled(opts.downsample);
     (full, written)
@@ -419,11 +415,7 @@ fn photo_uniforms(
     light: &mesh::KeyLight,
     [gloss, shininess]: [f64; 2],
 ) -> PhotoUniforms {
-    let points: Vec<DVec3> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
+    let points: Vec<DVec3> = scene.world_vertices();
     let (lo, hi) = crate::geom::bounds3(points.iter().copied())
         .unwrap_or((DVec3::splat(-10.0), DVec3::splat(10.0)));
     let centre = (lo + hi) / 2.0;

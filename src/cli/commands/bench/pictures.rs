@@ -148,12 +148,7 @@ fn check_cameras(
     views: &[CornerView],
     render: &RenderOptions,
 ) -> anyhow::Result<()> {
-    let points: Vec<DVec3> = s
-        .truth
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
+    let points: Vec<DVec3> = s.truth.world_vertices();
     for &v in views {
         let path = s.folder.join(format!("camera_{}.json", v.name()));
         let file = read_camera(&path)?;
@@ -288,11 +283,7 @@ mod tests {
         write_scene(&folder.join("scene.json"), &scene).unwrap();
         let mut render = RenderOptions::default();
         render.camera.projection = projection;
-        let points: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
+        let points: Vec<DVec3> = scene.world_vertices();
         let camera = Camera::frame(&points, CornerView::Ne, &render.camera);
         std::fs::write(folder.join("camera_ne.json"), camera_json(&camera)).unwrap();
         (folder, scene)
