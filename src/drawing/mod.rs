@@ -108,6 +108,18 @@ impl LineDrawing {
         self.junctions = incident.iter().map(|d| classify_junction(d)).collect();
     }
 
+    /// A drawing of `points` (picture px, y up) joined by `lines`, codes and junctions computed
+    /// ([`LineDrawing::finalize`]): the hand-made drawings of the unit tests.
+    pub fn from_arrays(points: &[[f64; 2]], lines: &[[usize; 2]]) -> LineDrawing {
+        let mut d = LineDrawing {
+            points: points.iter().map(|p| DVec2::from_array(*p)).collect(),
+            lines: lines.to_vec(),
+            ..Default::default()
+        };
+        d.finalize();
+        d
+    }
+
     /// The isometric cube of Appendix A's Figure A.2 (Chapter IV's worked example): a hexagon
     /// of corners A..F, top vertex first, clockwise, around the middle fork G, the hexagon's
     /// radius `scale_px` and G at `origin_px`; codes and junctions computed. Chapter IV's bit

@@ -831,16 +831,8 @@ mod tests {
     use super::*;
     use crate::geom::DVec2;
 
-    /// A drawing of `points` (picture px, y up) joined by `lines`, codes and junctions from
-    /// its geometry.
     fn drawing(points: &[[f64; 2]], lines: &[[usize; 2]]) -> LineDrawing {
-        let mut d = LineDrawing {
-            points: points.iter().map(|p| DVec2::from_array(*p)).collect(),
-            lines: lines.to_vec(),
-            ..Default::default()
-        };
-        d.finalize();
-        d
+        LineDrawing::from_arrays(points, lines)
     }
 
     fn label(d: &LineDrawing, opts: &LabelOptions) -> LabelReport {

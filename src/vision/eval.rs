@@ -151,16 +151,9 @@ pub fn line_angle_errors_deg(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::DVec2;
 
     fn drawing(points: &[[f64; 2]], lines: &[[usize; 2]]) -> LineDrawing {
-        let mut d = LineDrawing {
-            points: points.iter().map(|p| DVec2::from_array(*p)).collect(),
-            lines: lines.to_vec(),
-            ..Default::default()
-        };
-        d.finalize();
-        d
+        LineDrawing::from_arrays(points, lines)
     }
 
     #[test]
