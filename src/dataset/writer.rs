@@ -16,7 +16,7 @@ use super::{DatasetError, Family, Shard};
 use crate::camera::CornerView;
 use crate::io::{write_atomic, write_atomic_with, FileSync};
 use crate::physics::SettleParams;
-use crate::render::{RenderOptions, Renderer};
+use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{scene_to_json, write_scene_with, Scene};
 use rayon::prelude::*;
 use serde_json::{json, Value};
@@ -294,56 +294,11 @@ fn produce_scene(
     times.settle_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let views = match (opts.views.is_empty(), renderer) {
-        (true, _) => Vec::new(),
-        (false, None) => return Err(DatasetError::NoRenderer),
-        (false, Some(r)) => {
-            let render_opts = RenderOptions {
-                seed: spec.seed,
-                ..opts.render
-            };
-            r.render_views(&drawn.scene, &opts.views, &render_opts)
-                .map_err(|source| DatasetError::Render {
-                    id: spec.id(),
-                    source,
-                })?
-        }
-    };
+    let views = render_scene_views(spec, opts, renderer, &drawn.scene)?;
     times.render_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    std::fs::create_dir_all(&scene_dir).map_err(io_err(&scene_dir))?;
-    remove_temporaries(&scene_dir, None)?;
-    write_scene_with(&scene_dir.join(SCENE_FILE), &drawn.scene, opts.file_sync)?;
-    let mut files = BTreeMap::new();
-    files.insert(
-        SCENE_FILE.to_string(),
-        sha256_hex(scene_to_json(&drawn.scene).as_bytes()),
-    );
-    if let Some(f) = &opts.scene_file {
-        let (name, sha) =
-            write_scene_file(&scene_dir, &spec.id(), &drawn.scene, f, opts.file_sync)?;
-        files.insert(name, sha);
-    }
-    if !views.is_empty() {
-        let written = crate::output::write_rendered_views_with(&scene_dir, &views, opts.file_sync)
-            .map_err(io_err(&scene_dir))?;
-        files.extend(written.into_iter().map(|w| (w.name, w.sha256)));
-        // The varied look's draw (docs/varied-look.md "look.json").
-        let scene_opts = RenderOptions {
-            seed: spec.seed,
-            ..opts.render
-        };
-        if let Some(draw) = scene_opts.look_draw(drawn.scene.blocks.len()) {
-            let path = scene_dir.join(crate::render::photo::varied::LOOK_FILE);
-            let text = draw.to_json();
-            write_atomic_with(&path, text.as_bytes(), opts.file_sync).map_err(io_err(&path))?;
-            files.insert(
-                crate::render::photo::varied::LOOK_FILE.to_string(),
-                sha256_hex(text.as_bytes()),
-            );
-        }
-    }
+    let files = write_scene_files(&scene_dir, spec, opts, &drawn.scene, &views)?;
     let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {
         supported: true,
         reason: None,
@@ -368,6 +323,74 @@ fn produce_scene(
         entry,
         generated: Some((times, drawn.unstable, drawn.unplaceable)),
     })
+}
+
+/// The scene's views through `renderer` with the scene's own seed; none when the dataset
+/// asks for no views.
+fn render_scene_views(
+    spec: &SceneSpec,
+    opts: &DatasetOptions,
+    renderer: Option<&Renderer>,
+    scene: &Scene,
+) -> Result<Vec<RenderedView>, DatasetError> {
+    match (opts.views.is_empty(), renderer) {
+        (true, _) => Ok(Vec::new()),
+        (false, None) => Err(DatasetError::NoRenderer),
+        (false, Some(r)) => {
+            let render_opts = RenderOptions {
+                seed: spec.seed,
+                ..opts.render
+            };
+            r.render_views(scene, &opts.views, &render_opts)
+                .map_err(|source| DatasetError::Render {
+                    id: spec.id(),
+                    source,
+                })
+        }
+    }
+}
+
+/// Writes the scene folder's files but its `done.json` (scene, optional scene file, views,
+/// `look.json` of the varied look) and returns each file's name and sha256.
+fn write_scene_files(
+    scene_dir: &Path,
+    spec: &SceneSpec,
+    opts: &DatasetOptions,
+    scene: &Scene,
+    views: &[RenderedView],
+) -> Result<BTreeMap<String, String>, DatasetError> {
+    std::fs::create_dir_all(scene_dir).map_err(io_err(scene_dir))?;
+    remove_temporaries(scene_dir, None)?;
+    write_scene_with(&scene_dir.join(SCENE_FILE), scene, opts.file_sync)?;
+    let mut files = BTreeMap::new();
+    files.insert(
+        SCENE_FILE.to_string(),
+        sha256_hex(scene_to_json(scene).as_bytes()),
+    );
+    if let Some(f) = &opts.scene_file {
+        let (name, sha) = write_scene_file(scene_dir, &spec.id(), scene, f, opts.file_sync)?;
+        files.insert(name, sha);
+    }
+    if !views.is_empty() {
+        let written = crate::output::write_rendered_views_with(scene_dir, views, opts.file_sync)
+            .map_err(io_err(scene_dir))?;
+        files.extend(written.into_iter().map(|w| (w.name, w.sha256)));
+        // The varied look's draw (docs/varied-look.md "look.json").
+        let scene_opts = RenderOptions {
+            seed: spec.seed,
+            ..opts.render
+        };
+        if let Some(draw) = scene_opts.look_draw(scene.blocks.len()) {
+            let path = scene_dir.join(crate::render::photo::varied::LOOK_FILE);
+            let text = draw.to_json();
+            write_atomic_with(&path, text.as_bytes(), opts.file_sync).map_err(io_err(&path))?;
+            files.insert(
+                crate::render::photo::varied::LOOK_FILE.to_string(),
+                sha256_hex(text.as_bytes()),
+            );
+        }
+    }
+    Ok(files)
 }
 
 /// Scenes handed to the worker threads at once: memory stays bounded whatever `--count`

@@ -4,7 +4,7 @@
 
 use crate::camera::{Camera, Projector};
 use crate::geom::{bounds2, bounds3, DVec2, DVec3};
-use crate::scene::{BlockType, Scene};
+use crate::scene::{Block, BlockType, Scene};
 
 /// One block face: plane, picture polygon (counter-clockwise), facing.
 pub(super) struct Face {
@@ -125,71 +125,17 @@ impl SceneGeometry {
         let mut blocks = Vec::new();
         let mut edge_cache: Vec<(*const BlockType, Vec<CatalogEdge>)> = Vec::new();
         for (bi, block) in scene.blocks.iter().enumerate() {
-            let bt = block.block_type;
             let verts = block.world_vertices();
             let first_face = faces.len();
-            for (fi, face) in bt.faces().iter().enumerate() {
-                let normal = block.world_face_normal(fi);
-                let p0 = verts[face[0] as usize];
-                let front = camera.faces_eye(normal, p0);
-                let mut poly: Vec<DVec2> = if front {
-                    face.iter()
-                        .map(|&v| proj.picture(verts[v as usize]))
-                        .collect()
-                } else {
-                    Vec::new()
-                };
-                if signed_area(&poly) < 0.0 {
-                    poly.reverse();
-                }
-                let (lo, hi) = poly_bounds(&poly);
-                faces.push(Face {
-                    block: bi,
-                    normal,
-                    offset: normal.dot(p0),
-                    poly,
-                    lo,
-                    hi,
-                    front,
-                });
-            }
+            push_block_faces(block, bi, &verts, camera, &proj, &mut faces);
             let first_edge = edges.len();
-            if bt.round().is_some() {
+            if block.block_type.round().is_some() {
                 super::round::round_part_edges(
                     block, bi, &faces, first_face, camera, &proj, &mut edges,
                 );
-                let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();
-                blocks.push(BlockGeometry {
-                    lo,
-                    hi,
-                    centre_y_mm: block.center_mm.y,
-                    edges: first_edge..edges.len(),
-                });
-                continue;
-            }
-            let key = bt as *const BlockType;
-            let cached = match edge_cache.iter().position(|(k, _)| *k == key) {
-                Some(i) => i,
-                None => {
-                    edge_cache.push((key, bt.edges()));
-                    edge_cache.len() - 1
-                }
-            };
-            for &(i, j, fl, fr) in &edge_cache[cached].1 {
-                let (a, b) = (verts[i], verts[j]);
-                let ((pa, wa), (pb, wb)) = (proj.picture_and_w(a), proj.picture_and_w(b));
-                edges.push(Edge {
-                    block: bi,
-                    vertices: [i, j],
-                    faces: [first_face + fl, first_face + fr],
-                    a,
-                    b,
-                    pa,
-                    pb,
-                    wa,
-                    wb,
-                    curved: false,
-                });
+            } else {
+                let catalog = catalog_edges(&mut edge_cache, block.block_type);
+                push_block_edges(bi, &verts, catalog, first_face, &proj, &mut edges);
             }
             let (lo, hi) = bounds3(verts.iter().copied()).unwrap_or_default();
             blocks.push(BlockGeometry {
@@ -366,6 +312,86 @@ fn signed_area(poly: &[DVec2]) -> f64 {
 fn poly_bounds(poly: &[DVec2]) -> (DVec2, DVec2) {
     bounds2(poly.iter().copied())
         .unwrap_or((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)))
+}
+
+/// Appends block `bi`'s faces: plane, and for the faces towards the eye the picture polygon
+/// (counter-clockwise) with its bounds.
+fn push_block_faces(
+    block: &Block,
+    bi: usize,
+    verts: &[DVec3],
+    camera: &Camera,
+    proj: &Projector,
+    faces: &mut Vec<Face>,
+) {
+    for (fi, face) in block.block_type.faces().iter().enumerate() {
+        let normal = block.world_face_normal(fi);
+        let p0 = verts[face[0] as usize];
+        let front = camera.faces_eye(normal, p0);
+        let mut poly: Vec<DVec2> = if front {
+            face.iter()
+                .map(|&v| proj.picture(verts[v as usize]))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        if signed_area(&poly) < 0.0 {
+            poly.reverse();
+        }
+        let (lo, hi) = poly_bounds(&poly);
+        faces.push(Face {
+            block: bi,
+            normal,
+            offset: normal.dot(p0),
+            poly,
+            lo,
+            hi,
+            front,
+        });
+    }
+}
+
+/// The catalog edges of block type `bt`, computed once per type of a scene.
+fn catalog_edges<'c>(
+    cache: &'c mut Vec<(*const BlockType, Vec<CatalogEdge>)>,
+    bt: &'static BlockType,
+) -> &'c [CatalogEdge] {
+    let key = bt as *const BlockType;
+    let cached = match cache.iter().position(|(k, _)| *k == key) {
+        Some(i) => i,
+        None => {
+            cache.push((key, bt.edges()));
+            cache.len() - 1
+        }
+    };
+    &cache[cached].1
+}
+
+/// Appends block `bi`'s straight edges with their projected ends.
+fn push_block_edges(
+    bi: usize,
+    verts: &[DVec3],
+    catalog: &[CatalogEdge],
+    first_face: usize,
+    proj: &Projector,
+    edges: &mut Vec<Edge>,
+) {
+    for &(i, j, fl, fr) in catalog {
+        let (a, b) = (verts[i], verts[j]);
+        let ((pa, wa), (pb, wb)) = (proj.picture_and_w(a), proj.picture_and_w(b));
+        edges.push(Edge {
+            block: bi,
+            vertices: [i, j],
+            faces: [first_face + fl, first_face + fr],
+            a,
+            b,
+            pa,
+            pb,
+            wa,
+            wb,
+            curved: false,
+        });
+    }
 }
 
 #[cfg(test)]

@@ -97,6 +97,37 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !looks.is_empty() {
         print!("{}", factor_table(&results, &looks));
     }
+    print_scene_notes(&results, &unseen, &undecided);
+    let report = serde_json::json!({
+        "suite": if args.families.is_empty() {
+            args.suite.display().to_string()
+        } else {
+            format!("generate --family {} --count {} --seed {}", args.families.join(","), args.count, args.view.seed)
+        },
+        "recognizer": args.recognizer.as_ref().map_or("blockworld".into(), |d| d.display().to_string()),
+        "from_truth": args.from_truth,
+        "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
+        "noise_sigma": render.noise_sigma,
+        "projection": args.view.projection,
+        "families": families,
+        "scenes": results,
+        "looks": looks.iter().map(|d| serde_json::json!({"seed": d.seed, "bins": d.bins})).collect::<Vec<_>>(),
+        "undecided": undecided.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
+    });
+    write_report(&args.json_out, &report)?;
+    if let Some(golden) = &args.golden {
+        gate(golden, &results)?;
+    }
+    Ok(())
+}
+
+/// The lines under the tables: the confidently wrong scenes, blocks no view shows, scenes the
+/// views do not decide, unexpected passes and failures.
+fn print_scene_notes(
+    results: &[SceneResult],
+    unseen: &[(String, usize)],
+    undecided: &[(String, String)],
+) {
     let wrong: Vec<&str> = results
         .iter()
         .filter(|r| r.confidently_wrong)
@@ -120,7 +151,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             unseen.iter().filter(|(_, n)| *n > 0).map(|(id, _)| id).collect::<Vec<_>>()
         );
     }
-    for (id, why) in &undecided {
+    for (id, why) in undecided {
         println!("views do not decide {id} (counted apart; declining it is right): {why}");
     }
     for r in results.iter().filter(|r| r.unexpected_pass) {
@@ -133,27 +164,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for r in results.iter().filter(|r| r.note.is_some()) {
         println!("FAILED {}: {}", r.id, r.note.as_deref().unwrap_or_default());
     }
-    let report = serde_json::json!({
-        "suite": if args.families.is_empty() {
-            args.suite.display().to_string()
-        } else {
-            format!("generate --family {} --count {} --seed {}", args.families.join(","), args.count, args.view.seed)
-        },
-        "recognizer": args.recognizer.as_ref().map_or("blockworld".into(), |d| d.display().to_string()),
-        "from_truth": args.from_truth,
-        "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
-        "noise_sigma": render.noise_sigma,
-        "projection": args.view.projection,
-        "families": families,
-        "scenes": results,
-        "looks": looks.iter().map(|d| serde_json::json!({"seed": d.seed, "bins": d.bins})).collect::<Vec<_>>(),
-        "undecided": undecided.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
-    });
-    write_report(&args.json_out, &report)?;
-    if let Some(golden) = &args.golden {
-        gate(golden, &results)?;
-    }
-    Ok(())
 }
 
 /// The suite's results, per scene id how many blocks no view shows, and the scenes the views do

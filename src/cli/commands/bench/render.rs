@@ -86,16 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         look: blockworld::render::Look::Photo,
         ..opts
     };
-    if args.photo_only {
-        outln!("| blocks | photo look: render + readback |")?;
-        outln!("|---|---|")?;
-    } else if args.photo_parts {
-        outln!("| blocks | line art: render + readback | photo mesh (CPU; triangles) | radiance without shadows or sensor | + ground truth | + shadows | the photo view (+ sensor and mesh) | mesh + radiance + ground truth / line art | photo / line art |")?;
-        outln!("|---|---|---|---|---|---|---|---|---|")?;
-    } else {
-        outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
-        outln!("|---|---|---|---|---|---|---|")?;
-    }
+    print_table_header(&args)?;
     for &n in &args.blocks {
         let scene = bench_scene(n);
         scene
@@ -113,46 +104,77 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             )?;
             continue;
         }
-        for k in 0..32 {
-            renderer.render_pixels(&scene, CornerView::ALL[k % 4], &opts)?;
-        }
-        let pixels = time_views(iterations, |view| {
-            renderer.render_pixels(&scene, view, &opts).map(|_| ())
-        })?;
-        let four = time_four_views(iterations, || {
-            renderer
-                .render_views_pixels(&scene, &CornerView::ALL, &opts)
-                .map(|_| ())
-        })?;
-        let full = time_views(iterations, |view| {
-            renderer.render(&scene, view, &opts).map(|_| ())
-        })?;
-        let mut encode_error = None;
-        let png = time_views(iterations, |view| {
-            let v = renderer.render_pixels(&scene, view, &opts)?;
-            let encoded = encode_png_gray8(&v.gray)
-                .and_then(|_| encode_png_depth(&v.depth))
-                .and_then(|_| encode_png_ids(&v.ids));
-            if let Err(e) = encoded {
-                encode_error = Some(e);
-            }
-            Ok(())
-        })?;
-        if let Some(e) = encode_error {
-            return Err(e).context("encoding PNGs");
-        }
-        let photo_pixels = time_photo(&renderer, &scene, &photo, iterations)?;
         outln!(
-            "| {n} | {} | {} | {} | {} | {} | {:.1} x |",
-            pixels.show(),
-            four.show(),
-            full.show(),
-            png.show(),
-            photo_pixels.show(),
-            ms(photo_pixels.median) / ms(pixels.median).max(1e-9)
+            "{}",
+            line_art_row(n, &renderer, &scene, &opts, &photo, iterations)?
         )?;
     }
     Ok(())
+}
+
+/// The table's header for the chosen mode (`--photo-only`, `--photo-parts` or the default).
+fn print_table_header(args: &Args) -> anyhow::Result<()> {
+    if args.photo_only {
+        outln!("| blocks | photo look: render + readback |")?;
+        outln!("|---|---|")?;
+    } else if args.photo_parts {
+        outln!("| blocks | line art: render + readback | photo mesh (CPU; triangles) | radiance without shadows or sensor | + ground truth | + shadows | the photo view (+ sensor and mesh) | mesh + radiance + ground truth / line art | photo / line art |")?;
+        outln!("|---|---|---|---|---|---|---|---|---|")?;
+    } else {
+        outln!("| blocks | render + readback | four views per submission | + line drawing | render + readback + 3 PNG encodes | photo look: render + readback | photo / line art |")?;
+        outln!("|---|---|---|---|---|---|---|")?;
+    }
+    Ok(())
+}
+
+/// The default table's row of one scene: 32 untimed warm-up views, then the line-art columns,
+/// the PNG encodes and the photo look, each `iterations` times.
+fn line_art_row(
+    n: usize,
+    renderer: &Renderer,
+    scene: &Scene,
+    opts: &RenderOptions,
+    photo: &RenderOptions,
+    iterations: usize,
+) -> anyhow::Result<String> {
+    for k in 0..32 {
+        renderer.render_pixels(scene, CornerView::ALL[k % 4], opts)?;
+    }
+    let pixels = time_views(iterations, |view| {
+        renderer.render_pixels(scene, view, opts).map(|_| ())
+    })?;
+    let four = time_four_views(iterations, || {
+        renderer
+            .render_views_pixels(scene, &CornerView::ALL, opts)
+            .map(|_| ())
+    })?;
+    let full = time_views(iterations, |view| {
+        renderer.render(scene, view, opts).map(|_| ())
+    })?;
+    let mut encode_error = None;
+    let png = time_views(iterations, |view| {
+        let v = renderer.render_pixels(scene, view, opts)?;
+        let encoded = encode_png_gray8(&v.gray)
+            .and_then(|_| encode_png_depth(&v.depth))
+            .and_then(|_| encode_png_ids(&v.ids));
+        if let Err(e) = encoded {
+            encode_error = Some(e);
+        }
+        Ok(())
+    })?;
+    if let Some(e) = encode_error {
+        return Err(e).context("encoding PNGs");
+    }
+    let photo_pixels = time_photo(renderer, scene, photo, iterations)?;
+    Ok(format!(
+        "| {n} | {} | {} | {} | {} | {} | {:.1} x |",
+        pixels.show(),
+        four.show(),
+        full.show(),
+        png.show(),
+        photo_pixels.show(),
+        ms(photo_pixels.median) / ms(pixels.median).max(1e-9)
+    ))
 }
 
 /// The photo look's column: four untimed views, then a quarter of `iterations` (at least
