@@ -2,6 +2,9 @@
 //! and each external crate lives in one stage. Scans `use crate::...` / `crate::...` paths in
 //! each module's source files.
 
+mod common;
+
+use common::rust_files;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -79,20 +82,6 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ),
     ("png", &["output"]),
 ];
-
-fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
 
 fn crate_modules_used(text: &str) -> BTreeSet<String> {
     let mut used = BTreeSet::new();

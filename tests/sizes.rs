@@ -2,26 +2,15 @@
 //! file under `src/` over 1,000 lines and no function over 80. The function scanner blanks
 //! comments, strings and character literals, then matches each `fn`'s body braces.
 
+mod common;
+
+use common::rust_files;
 use std::path::{Path, PathBuf};
 
 /// The longest function allowed, in lines from its `fn` line to its closing brace.
 const MAX_FUNCTION_LINES: usize = 80;
 /// The longest source file allowed, in lines.
 const MAX_FILE_LINES: usize = 1000;
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
 
 /// The length in bytes of a string literal (plain or raw) starting at `i`, if one starts there.
 fn string_len(b: &[u8], i: usize) -> Option<usize> {

@@ -179,6 +179,22 @@ pub fn json_files(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// Every `*.rs` file under `dir`, at any depth, in directory order (`src/` for the rules of
+/// `layering.rs` and `sizes.rs`).
+pub fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
 /// The file stem of `p` (`scenes/row.json` -> `row`).
 pub fn stem(p: &Path) -> String {
     p.file_stem().unwrap().to_string_lossy().into_owned()
