@@ -165,20 +165,7 @@ impl Gpu {
 
     fn create_radiance_targets(&self, size: [u32; 2]) -> RadianceTargets {
         let texture = |label, format, usage| {
-            self.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size[0],
-                    height: size[1],
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
+            super::targets::texture_2d(&self.device, label, size, format, 1, usage)
         };
         let radiance = texture(
             "radiance",
@@ -318,20 +305,14 @@ impl Gpu {
 
 /// The key light's shadow map ([`SHADOW_MAP_PX`] square, depth) and its comparison sampler.
 fn shadow_map(device: &wgpu::Device) -> (wgpu::TextureView, wgpu::Sampler) {
-    let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("shadow map"),
-        size: wgpu::Extent3d {
-            width: SHADOW_MAP_PX,
-            height: SHADOW_MAP_PX,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
+    let shadow_map = super::targets::texture_2d(
+        device,
+        "shadow map",
+        [SHADOW_MAP_PX; 2],
+        DEPTH_FORMAT,
+        1,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+    );
     let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("shadow sampler"),
         mag_filter: wgpu::FilterMode::Linear,

@@ -104,20 +104,7 @@ impl Gpu {
     /// The targets of a `size` px picture with `msaa` samples, and no readback buffer yet.
     fn create_targets(&self, size: [u32; 2], msaa: u32) -> Targets {
         let texture = |label, format, samples, usage| {
-            let t = self.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size[0],
-                    height: size[1],
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            });
+            let t = texture_2d(&self.device, label, size, format, samples, usage);
             let v = t.create_view(&wgpu::TextureViewDescriptor::default());
             (t, v)
         };
@@ -150,6 +137,32 @@ impl Gpu {
             layout,
         }
     }
+}
+
+/// A 2D texture of `size_px` with one mip level: the one descriptor of every render target,
+/// depth buffer and shadow map of the GPU stage.
+pub(super) fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    size_px: [u32; 2],
+    format: wgpu::TextureFormat,
+    sample_count: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size_px[0],
+            height: size_px[1],
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 #[cfg(test)]
