@@ -11,7 +11,7 @@
 //! unless `BLOCKWORLD_REQUIRE_GPU` is set.
 
 mod common;
-use common::{blockworld, command, fails_with_2, ok, renderer_available};
+use common::{assert_same_tree, blockworld, command, fails_with_2, ok, renderer_available, tree};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -30,35 +30,6 @@ fn generate(dir: &Path, count: u32, extra: &[&str]) -> String {
     ];
     args.extend_from_slice(extra);
     ok(blockworld(&args))
-}
-
-/// Every file under `dir` by relative path, with its bytes.
-fn tree(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<PathBuf, Vec<u8>>) {
-        for e in std::fs::read_dir(dir).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                walk(root, &p, out);
-            } else {
-                out.insert(
-                    p.strip_prefix(root).unwrap().to_path_buf(),
-                    std::fs::read(&p).unwrap(),
-                );
-            }
-        }
-    }
-    let mut out = BTreeMap::new();
-    walk(dir, dir, &mut out);
-    out
-}
-
-fn assert_same_tree(a: &Path, b: &Path) {
-    let (ta, tb) = (tree(a), tree(b));
-    let names = |t: &BTreeMap<PathBuf, Vec<u8>>| t.keys().cloned().collect::<Vec<_>>();
-    assert_eq!(names(&ta), names(&tb), "same files");
-    for (k, v) in &ta {
-        assert!(tb[k] == *v, "{} differs", k.display());
-    }
 }
 
 fn manifest(dir: &Path) -> Vec<serde_json::Value> {

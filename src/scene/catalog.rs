@@ -303,6 +303,46 @@ pub fn block_type(id: &str) -> Option<&'static BlockType> {
     CATALOG.iter().find(|t| t.id == id)
 }
 
+/// Rotations that map a block type's polyhedron onto itself, among the 24 rotations of the
+/// cube group (every catalog block is modelled in its bounding box's axes, so no other rotation
+/// can be a symmetry of it except for shapes with rotational symmetry about a diagonal, which
+/// the catalog does not have). A `b15` cube has all 24, a `b30` (30 x 15 x 15) and a `b7_5`
+/// (15 x 7.5 x 15) have 8 each: 180° turns about every axis and 90° turns about the long
+/// (short) axis; a wedge will have fewer.
+pub fn symmetry_rotations(block_type: &BlockType) -> Vec<glam::DQuat> {
+    let vertices: Vec<DVec3> = block_type.vertices().collect();
+    cube_group()
+        .into_iter()
+        .filter(|q| {
+            vertices.iter().all(|v| {
+                let w = *q * *v;
+                vertices.iter().any(|u| (*u - w).abs().max_element() < 1e-9)
+            })
+        })
+        .collect()
+}
+
+/// The 24 proper rotations that permute the coordinate axes (with signs).
+fn cube_group() -> Vec<glam::DQuat> {
+    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+    let mut out = Vec::with_capacity(24);
+    for (i, &a) in axes.iter().enumerate() {
+        for (j, &b) in axes.iter().enumerate() {
+            if i == j {
+                continue;
+            }
+            for sa in [1.0, -1.0] {
+                for sb in [1.0, -1.0] {
+                    let (x, y) = (a * sa, b * sb);
+                    let m = glam::DMat3::from_cols(x, y, x.cross(y));
+                    out.push(glam::DQuat::from_mat3(&m));
+                }
+            }
+        }
+    }
+    out
+}
+
 impl BlockType {
     /// The solid as a convex polyhedron: exact for the polyhedral blocks, the inscribed prism
     /// (with [`RoundPart`]'s stated bounds) for a round part.

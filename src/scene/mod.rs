@@ -13,8 +13,8 @@ mod reconstruction;
 mod sat;
 
 pub use catalog::{
-    basic_blocks, block_type, BlockType, ConvexPolyhedron, RoundPart, Shape, CATALOG,
-    ROUND_PRISM_SIDES,
+    basic_blocks, block_type, symmetry_rotations, BlockType, ConvexPolyhedron, RoundPart, Shape,
+    CATALOG, ROUND_PRISM_SIDES,
 };
 pub use error::SceneError;
 pub use file::{

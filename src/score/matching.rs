@@ -2,7 +2,8 @@
 //! and layer counting (Chapter VI's layers: blocks resting at the same height).
 
 use crate::geom::{DQuat, DVec3};
-use crate::scene::{Block, BlockType};
+pub use crate::scene::symmetry_rotations;
+use crate::scene::Block;
 
 /// One truth block matched to one reconstructed block.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -15,46 +16,6 @@ pub struct BlockMatch {
     pub center_error_mm: f64,
     /// Smallest rotation angle between the two poses modulo the block's symmetry, degrees.
     pub turn_error_deg: f64,
-}
-
-/// Rotations that map a block type's polyhedron onto itself, among the 24 rotations of the
-/// cube group (every catalog block is modelled in its bounding box's axes, so no other rotation
-/// can be a symmetry of it except for shapes with rotational symmetry about a diagonal, which
-/// the catalog does not have). A `b15` cube has all 24, a `b30` (30 x 15 x 15) and a `b7_5`
-/// (15 x 7.5 x 15) have 8 each: 180° turns about every axis and 90° turns about the long
-/// (short) axis; a wedge will have fewer.
-pub fn symmetry_rotations(block_type: &BlockType) -> Vec<DQuat> {
-    let vertices: Vec<DVec3> = block_type.vertices().collect();
-    cube_group()
-        .into_iter()
-        .filter(|q| {
-            vertices.iter().all(|v| {
-                let w = *q * *v;
-                vertices.iter().any(|u| (*u - w).abs().max_element() < 1e-9)
-            })
-        })
-        .collect()
-}
-
-/// The 24 proper rotations that permute the coordinate axes (with signs).
-fn cube_group() -> Vec<DQuat> {
-    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
-    let mut out = Vec::with_capacity(24);
-    for (i, &a) in axes.iter().enumerate() {
-        for (j, &b) in axes.iter().enumerate() {
-            if i == j {
-                continue;
-            }
-            for sa in [1.0, -1.0] {
-                for sb in [1.0, -1.0] {
-                    let (x, y) = (a * sa, b * sb);
-                    let m = glam::DMat3::from_cols(x, y, x.cross(y));
-                    out.push(DQuat::from_mat3(&m));
-                }
-            }
-        }
-    }
-    out
 }
 
 /// The smallest rotation angle in degrees taking block `a`'s pose to block `b`'s, modulo

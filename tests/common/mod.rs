@@ -14,6 +14,7 @@ pub use run::{blockworld, command, fails_with_2, ok, stderr};
 
 use blockworld::render::{Backend, Renderer};
 use image::{GrayImage, Luma};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The renderer, or `None` after a loud skip message when there is no adapter and
@@ -198,4 +199,34 @@ pub fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 /// The file stem of `p` (`scenes/row.json` -> `row`).
 pub fn stem(p: &Path) -> String {
     p.file_stem().unwrap().to_string_lossy().into_owned()
+}
+
+/// Every file under `dir` by relative path, with its bytes.
+pub fn tree(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<PathBuf, Vec<u8>>) {
+        for e in std::fs::read_dir(dir).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                out.insert(
+                    p.strip_prefix(root).unwrap().to_path_buf(),
+                    std::fs::read(&p).unwrap(),
+                );
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// Asserts that two folders hold the same files with the same bytes.
+pub fn assert_same_tree(a: &Path, b: &Path) {
+    let (ta, tb) = (tree(a), tree(b));
+    let names = |t: &BTreeMap<PathBuf, Vec<u8>>| t.keys().cloned().collect::<Vec<_>>();
+    assert_eq!(names(&ta), names(&tb), "same files");
+    for (k, v) in &ta {
+        assert!(tb[k] == *v, "{} differs", k.display());
+    }
 }
