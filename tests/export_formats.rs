@@ -1,14 +1,16 @@
-//! `blockworld export-dataset --format coco|hf` checked by the tools' own code (docs/exports.md
+//! `blockworld export-dataset --format coco|hf|bop` checked by the tools' own code (docs/exports.md
 //! "Checks"): a small rendered dataset is exported, and `tests/python/check_exports.py` loads it
 //! with pycocotools (every mask against the id pictures, COCOeval of the truth against itself
-//! and against a shifted copy) and with Hugging Face `datasets` (the image folder, offline).
+//! and against a shifted copy) and with Hugging Face `datasets` (the image folder, offline);
+//! `tests/python/check_bop.py`, a reader written from BOP's format description, re-projects the
+//! BOP export's models onto its masks and depth pictures (docs/export-bop.md "Checks").
 //!
 //! Needs the renderer (skips without it unless `BLOCKWORLD_REQUIRE_GPU` is set) and the venv
 //! `make setup` installs in target/vision-venv (skips without it unless CI or
 //! `BLOCKWORLD_REQUIRE_VISION_TOOLS` is set, as `make test` does).
 
 mod common;
-use common::{blockworld, ok, renderer, root};
+use common::{assert_same_tree, blockworld, fails_with_2, ok, renderer, root};
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -41,6 +43,11 @@ fn vision_python() -> Option<PathBuf> {
 
 /// A small rendered dataset: 6 scenes of several families, four 200 x 160 views each.
 fn dataset(dir: &Path) {
+    dataset_with(dir, "orthographic");
+}
+
+/// [`dataset`] through a camera of `projection`.
+fn dataset_with(dir: &Path, projection: &str) {
     ok(blockworld([
         "generate",
         "--count",
@@ -51,6 +58,8 @@ fn dataset(dir: &Path) {
         "1",
         "--size",
         "200x160",
+        "--projection",
+        projection,
         "-o",
         dir.to_str().unwrap(),
     ]));
@@ -81,22 +90,32 @@ fn run_python_check(python: &Path, kind: &str, dataset: &Path, out: &Path) -> Ou
 
 /// Runs the Python check of `kind` and returns its one-line JSON report.
 fn python_check(python: &Path, kind: &str, dataset: &Path, out: &Path) -> serde_json::Value {
-    let stdout = ok(run_python_check(python, kind, dataset, out));
+    report(run_python_check(python, kind, dataset, out))
+}
+
+/// The one-line JSON report a successful Python check prints last.
+fn report(run: Output) -> serde_json::Value {
+    let stdout = ok(run);
     serde_json::from_str(stdout.lines().last().unwrap_or(""))
         .unwrap_or_else(|e| panic!("{e}: {stdout}"))
 }
 
-#[test]
-fn coco_and_hf_exports_load_in_the_tools_and_match_the_id_pictures() {
-    if renderer().is_none() {
-        return;
-    }
-    let Some(python) = vision_python() else {
-        return;
-    };
+/// The venv's Python, a temporary folder and a [`dataset_with`] `projection` in it (`ds`);
+/// `None` after a loud skip when the renderer or the venv is missing.
+fn tools_and_dataset(projection: &str) -> Option<(PathBuf, tempfile::TempDir, PathBuf)> {
+    renderer()?;
+    let python = vision_python()?;
     let dir = tempfile::tempdir().unwrap();
     let ds = dir.path().join("ds");
-    dataset(&ds);
+    dataset_with(&ds, projection);
+    Some((python, dir, ds))
+}
+
+#[test]
+fn coco_and_hf_exports_load_in_the_tools_and_match_the_id_pictures() {
+    let Some((python, dir, ds)) = tools_and_dataset("orthographic") else {
+        return;
+    };
     let coco = dir.path().join("coco");
     let summary = ok(export(&ds, "coco", &coco, "2"));
     assert!(
@@ -179,4 +198,68 @@ fn coco_export_is_deterministic_resumable_and_refuses_a_damaged_dataset() {
         "{err}"
     );
     assert!(!fresh.join("annotations/instances.json").exists());
+}
+
+/// Runs `tests/python/check_bop.py` on a BOP export.
+fn run_bop_check(python: &Path, out: &Path) -> Output {
+    Command::new(python)
+        .arg(root().join("tests/python/check_bop.py"))
+        .arg(out)
+        .output()
+        .expect("runs python")
+}
+
+#[test]
+fn bop_export_reprojects_onto_its_masks_and_depth_and_resumes_byte_for_byte() {
+    let Some((python, dir, ds)) = tools_and_dataset("perspective") else {
+        return;
+    };
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let summary = ok(export(&ds, "bop", &a, "1"));
+    assert!(
+        summary.contains("6 scenes (0 kept from an earlier run): 24 images"),
+        "{summary}"
+    );
+    ok(export(&ds, "bop", &b, "3"));
+    assert_same_tree(&a, &b);
+    let summary = ok(export(&ds, "bop", &a, "2"));
+    assert!(
+        summary.contains("(6 kept from an earlier run)"),
+        "{summary}"
+    );
+    assert_same_tree(&a, &b);
+    let counts = report(run_bop_check(&python, &a));
+    eprintln!("bop: {counts}");
+    assert_eq!(counts["images"], 24);
+    assert!(counts["vertices_visible"].as_u64().unwrap() > 0);
+    // The check can fail: one instance moved 1 mm along the camera's x.
+    let gt_path = b.join("train_pbr/000003/scene_gt.json");
+    let mut gt: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&gt_path).unwrap()).unwrap();
+    let t = &mut gt["2"][0]["cam_t_m2c"][0];
+    *t = serde_json::json!(t.as_f64().unwrap() + 1.0);
+    std::fs::write(&gt_path, gt.to_string()).unwrap();
+    let run = run_bop_check(&python, &b);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        !run.status.success() && err.contains("instance 0") && err.contains("from the mask"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bop_export_refuses_an_orthographic_dataset_before_writing() {
+    if renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    dataset(&ds);
+    let out = dir.path().join("bop");
+    let err = fails_with_2(&export(&ds, "bop", &out, "1"));
+    assert!(
+        err.contains("s000000/camera_") && err.contains("generate --projection perspective"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }

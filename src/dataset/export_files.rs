@@ -5,8 +5,11 @@ use super::lock::{lock_dataset, DatasetLock};
 use super::manifest::{sha256_hex, ManifestEntry, MANIFEST_NAME};
 use super::writer::io_err;
 use super::{DatasetError, Shard};
+use crate::camera::{parse_camera_json, Camera};
+use crate::scene::{parse_scene, Scene};
+use image::{ImageBuffer, Luma};
 use serde_json::Value;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The part files' folder in OUT: one resume record per scene.
 pub(super) const PARTS_DIR: &str = ".parts";
@@ -98,4 +101,63 @@ pub(super) fn read_checked(
         });
     }
     Ok(bytes)
+}
+
+/// A dataset file that reads but does not make sense (`error` says why), refused with its path
+/// and the command that remakes it.
+pub(super) fn remake(path: PathBuf, error: impl std::fmt::Display) -> DatasetError {
+    DatasetError::Input {
+        path,
+        message: format!("{error}; re-run the `blockworld generate` command that made the dataset"),
+    }
+}
+
+/// Reads and parses a scene's `scene.json`; returns the scene's folder with it.
+pub(super) fn read_scene_checked(
+    dataset: &Path,
+    entry: &ManifestEntry,
+) -> Result<(PathBuf, Scene), DatasetError> {
+    let scene_dir = dataset.join(&entry.id);
+    let bytes = read_checked(&scene_dir, entry, "scene.json")?;
+    let scene = parse_scene(
+        &String::from_utf8_lossy(&bytes),
+        &scene_dir.join("scene.json").display().to_string(),
+    )?;
+    Ok((scene_dir, scene))
+}
+
+/// Reads and parses a view's `camera_<view>.json`.
+pub(super) fn read_camera(
+    scene_dir: &Path,
+    entry: &ManifestEntry,
+    view: &str,
+) -> Result<Camera, DatasetError> {
+    let name = format!("camera_{view}.json");
+    let text = read_checked(scene_dir, entry, &name)?;
+    parse_camera_json(&String::from_utf8_lossy(&text)).map_err(|e| remake(scene_dir.join(name), e))
+}
+
+/// Reads a 16-bit picture of a view (`ids_<v>.png`, `depth_<v>.png`) and refuses it when it is
+/// not `camera`'s size.
+pub(super) fn read_gray16(
+    scene_dir: &Path,
+    entry: &ManifestEntry,
+    name: &str,
+    camera: &Camera,
+) -> Result<ImageBuffer<Luma<u16>, Vec<u16>>, DatasetError> {
+    let png = read_checked(scene_dir, entry, name)?;
+    let picture = image::load_from_memory(&png)
+        .map_err(|e| remake(scene_dir.join(name), e))?
+        .to_luma16();
+    if picture.dimensions() != (camera.size_px[0], camera.size_px[1]) {
+        let message = format!(
+            "{}x{} px, but its camera says {}x{}",
+            picture.width(),
+            picture.height(),
+            camera.size_px[0],
+            camera.size_px[1]
+        );
+        return Err(remake(scene_dir.join(name), message));
+    }
+    Ok(picture)
 }

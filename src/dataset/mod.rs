@@ -8,6 +8,7 @@
 //! scene index), never on `--jobs` or the shard, so every way of producing a dataset gives the
 //! same bytes. `writer` and `wireframe` are the parts that do file I/O.
 
+mod bop_export;
 mod error;
 mod export_files;
 mod families;

@@ -1,5 +1,5 @@
 //! A generated dataset's views as the files vision tools load unchanged (docs/exports.md
-//! "Exports for vision tools (COCO, Hugging Face)"): `blockworld export-dataset DATASET --format
+//! "Exports for vision tools"): `blockworld export-dataset DATASET --format
 //! coco|hf -o OUT`.
 //!
 //! Streams scene by scene on `jobs` threads: each scene's pictures are copied (atomically,
@@ -11,18 +11,17 @@
 //! Like the wireframe exports, an export holds the dataset lock on OUT and first removes the
 //! temporary files a killed export left.
 
+use super::bop_export::{assemble_bop, export_bop_scene, refuse_orthographic};
 use super::export_files::{
-    lock_export, part_is_complete, push_json, read_checked, read_manifest, read_part, views_of,
-    PARTS_DIR,
+    lock_export, part_is_complete, push_json, read_camera, read_checked, read_gray16,
+    read_manifest, read_part, read_scene_checked, remake, views_of, PARTS_DIR,
 };
 use super::manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 use super::writer::{io_err, remove_temporaries};
 use super::DatasetError;
-use crate::camera::parse_camera_json;
 use crate::drawing::LineDrawing;
 use crate::export::coco::{coco_categories, coco_view, SilhouetteAgreement, ViewInput};
 use crate::io::{write_atomic, write_atomic_with, FileSync};
-use crate::scene::parse_scene;
 use serde_json::{json, Value};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -37,6 +36,8 @@ pub enum VisionFormat {
     Coco,
     /// Hugging Face image folder: `train/` with the pictures and `metadata.jsonl`.
     HuggingFace,
+    /// BOP: `models/`, `train_pbr/<scene>/`, `camera.json` (docs/export-bop.md).
+    Bop,
 }
 
 impl VisionFormat {
@@ -45,6 +46,7 @@ impl VisionFormat {
         match self {
             VisionFormat::Coco => "coco",
             VisionFormat::HuggingFace => "hf",
+            VisionFormat::Bop => "bop",
         }
     }
 
@@ -53,6 +55,7 @@ impl VisionFormat {
         match self {
             VisionFormat::Coco => "images",
             VisionFormat::HuggingFace => "train",
+            VisionFormat::Bop => "train_pbr",
         }
     }
 
@@ -61,6 +64,7 @@ impl VisionFormat {
         match self {
             VisionFormat::Coco => "annotations/instances.json",
             VisionFormat::HuggingFace => "train/metadata.jsonl",
+            VisionFormat::Bop => "models/models_info.json",
         }
     }
 }
@@ -94,10 +98,19 @@ pub fn export_vision(
     let manifest_path = dataset.join(MANIFEST_NAME);
     let manifest = read_manifest(&manifest_path)?;
     let entries = parse_manifest(&String::from_utf8_lossy(&manifest), &manifest_path)?;
+    if format == VisionFormat::Bop {
+        refuse_orthographic(dataset, &entries)?;
+    }
     let _lock = lock_export(out)?;
     prepare_output(out, format, &sha256_hex(&manifest))?;
-    let resumed = export_scenes(dataset, out, format, jobs, &entries, progress)?;
-    let mut summary = assemble(out, format, &entries)?;
+    let resumed = export_scenes(jobs, &entries, progress, |index, entry| match format {
+        VisionFormat::Bop => export_bop_scene(dataset, out, index, entry),
+        _ => export_scene(dataset, out, format, entry),
+    })?;
+    let mut summary = match format {
+        VisionFormat::Bop => assemble_bop(out, &entries)?,
+        _ => assemble(out, format, &entries)?,
+    };
     summary.scenes = entries.len();
     summary.resumed = resumed;
     Ok(summary)
@@ -138,15 +151,14 @@ fn prepare_output(
     write_atomic(&path, crate::io::pretty_json(&stamp).as_bytes()).map_err(io_err(&path))
 }
 
-/// Exports every scene on `jobs` threads, each taking the next scene not yet taken; returns how
-/// many scenes an earlier run had done. The first error stops the others after their scene.
+/// Exports every scene on `jobs` threads with `export(index, entry)` (`false` when an earlier
+/// run had done the scene), each thread taking the next scene not yet taken; returns how many
+/// scenes an earlier run had done. The first error stops the others after their scene.
 fn export_scenes(
-    dataset: &Path,
-    out: &Path,
-    format: VisionFormat,
     jobs: usize,
     entries: &[ManifestEntry],
     progress: &(dyn Fn(u64, u64) + Sync),
+    export: impl Fn(usize, &ManifestEntry) -> Result<bool, DatasetError> + Sync,
 ) -> Result<usize, DatasetError> {
     let total = entries.len() as u64;
     let (next, done, failed) = (
@@ -157,10 +169,11 @@ fn export_scenes(
     let worker = || -> Result<usize, DatasetError> {
         let mut resumed = 0;
         while !failed.load(Ordering::Relaxed) {
-            let Some(entry) = entries.get(next.fetch_add(1, Ordering::Relaxed)) else {
+            let index = next.fetch_add(1, Ordering::Relaxed);
+            let Some(entry) = entries.get(index) else {
                 break;
             };
-            match export_scene(dataset, out, format, entry) {
+            match export(index, entry) {
                 Ok(fresh) => resumed += usize::from(!fresh),
                 Err(e) => {
                     failed.store(true, Ordering::Relaxed);
@@ -190,12 +203,7 @@ fn export_scene(
     entry: &ManifestEntry,
 ) -> Result<bool, DatasetError> {
     let part_path = out.join(PARTS_DIR).join(format!("{}.json", entry.id));
-    let scene_dir = dataset.join(&entry.id);
-    let scene_bytes = read_checked(&scene_dir, entry, "scene.json")?;
-    let scene = parse_scene(
-        &String::from_utf8_lossy(&scene_bytes),
-        &scene_dir.join("scene.json").display().to_string(),
-    )?;
+    let (scene_dir, scene) = read_scene_checked(dataset, entry)?;
     let mut records = Vec::new();
     let mut pictures = Vec::new();
     let mut agreement = SilhouetteAgreement::default();
@@ -230,35 +238,13 @@ fn view_record(
     view: &str,
     file_name: &str,
 ) -> Result<(Vec<u8>, Value, SilhouetteAgreement), DatasetError> {
-    let bad = |name: String, message: String| DatasetError::Input {
-        path: scene_dir.join(name),
-        message: format!(
-            "{message}; re-run the `blockworld generate` command that made the dataset"
-        ),
-    };
-    let camera_name = format!("camera_{view}.json");
-    let camera_text = read_checked(scene_dir, entry, &camera_name)?;
-    let camera = parse_camera_json(&String::from_utf8_lossy(&camera_text))
-        .map_err(|e| bad(camera_name, e.to_string()))?;
+    let camera = read_camera(scene_dir, entry, view)?;
     let lines_name = format!("lines_{view}.json");
     let lines_text = read_checked(scene_dir, entry, &lines_name)?;
     let drawing = LineDrawing::from_json(&String::from_utf8_lossy(&lines_text))
-        .map_err(|e| bad(lines_name, e.to_string()))?;
+        .map_err(|e| remake(scene_dir.join(lines_name), e))?;
     let ids_name = format!("ids_{view}.png");
-    let ids_png = read_checked(scene_dir, entry, &ids_name)?;
-    let ids = image::load_from_memory(&ids_png)
-        .map_err(|e| bad(ids_name.clone(), e.to_string()))?
-        .to_luma16();
-    if ids.dimensions() != (camera.size_px[0], camera.size_px[1]) {
-        let message = format!(
-            "{}x{} px, but its camera says {}x{}",
-            ids.width(),
-            ids.height(),
-            camera.size_px[0],
-            camera.size_px[1]
-        );
-        return Err(bad(ids_name, message));
-    }
+    let ids = read_gray16(scene_dir, entry, &ids_name, &camera)?;
     let picture = read_checked(scene_dir, entry, &format!("view_{view}.png"))?;
     let input = ViewInput {
         scene_id: &entry.id,
@@ -268,17 +254,28 @@ fn view_record(
         drawing: &drawing,
         file_name,
     };
-    let coco = coco_view(&input).map_err(|e| bad(ids_name, e.to_string()))?;
+    let coco = coco_view(&input).map_err(|e| remake(scene_dir.join(ids_name), e))?;
     let record = json!({"image": coco.image, "annotations": coco.annotations});
     Ok((picture, record, coco.agreement))
 }
 
-fn agreement_json(a: SilhouetteAgreement) -> Value {
+/// The silhouette agreement as a part file holds it.
+pub(super) fn agreement_json(a: SilhouetteAgreement) -> Value {
     json!([
         a.visible_outside_px,
         a.silhouette_on_background_px,
         a.silhouette_px
     ])
+}
+
+/// The silhouette agreement a part file holds (zero when it holds none).
+pub(super) fn part_agreement(part: &Value) -> SilhouetteAgreement {
+    let count = |k: usize| part["agreement"][k].as_u64().unwrap_or(0);
+    SilhouetteAgreement {
+        visible_outside_px: count(0),
+        silhouette_on_background_px: count(1),
+        silhouette_px: count(2),
+    }
 }
 
 /// Joins the part files, in scene order, into the format's annotation file (COCO: image and
@@ -292,21 +289,7 @@ fn assemble(
     let mut text = CocoText::default();
     for entry in entries {
         let mut part = read_part(out, entry)?;
-        if let Some([a, b, c]) = part["agreement"]
-            .as_array()
-            .map(|v| {
-                v.iter()
-                    .map(|x| x.as_u64().unwrap_or(0))
-                    .collect::<Vec<_>>()
-            })
-            .as_deref()
-        {
-            summary.agreement.add(SilhouetteAgreement {
-                visible_outside_px: *a,
-                silhouette_on_background_px: *b,
-                silhouette_px: *c,
-            });
-        }
+        summary.agreement.add(part_agreement(&part));
         let Value::Array(records) = part["records"].take() else {
             continue;
         };
@@ -314,7 +297,7 @@ fn assemble(
             summary.images += 1;
             summary.annotations += match format {
                 VisionFormat::Coco => push_coco(&mut text, record, summary.images),
-                VisionFormat::HuggingFace => push_hf(&mut text.images, record),
+                VisionFormat::HuggingFace | VisionFormat::Bop => push_hf(&mut text.images, record),
             };
         }
     }
@@ -326,7 +309,7 @@ fn assemble(
             text.annotations,
             coco_categories()
         ),
-        VisionFormat::HuggingFace => text.images,
+        VisionFormat::HuggingFace | VisionFormat::Bop => text.images,
     };
     let path = out.join(format.annotation_file());
     write_atomic(&path, doc.as_bytes()).map_err(io_err(&path))?;

@@ -174,7 +174,8 @@ pub fn rle_json(mask: &Mask) -> Value {
     })
 }
 
-fn compare_silhouette(visible: &Mask, full: &Mask, ids: &[u16]) -> SilhouetteAgreement {
+/// How a block's visible mask and its full mask agree with the id picture `ids`.
+pub(super) fn compare_silhouette(visible: &Mask, full: &Mask, ids: &[u16]) -> SilhouetteAgreement {
     let mut out = SilhouetteAgreement::default();
     for (i, (&v, &f)) in visible.pixels.iter().zip(&full.pixels).enumerate() {
         out.visible_outside_px += u64::from(v && !f);

@@ -131,15 +131,22 @@ pub fn visible_masks(
 /// ([`covers_pixel_centre`]). Pixels outside the picture are cut off.
 pub fn silhouette_mask(block: &Block, camera: &Camera) -> Mask {
     let [w, h] = camera.size_px;
+    polygon_mask(&silhouette_hull_px(block, camera), w, h)
+}
+
+/// The block's whole silhouette in `camera`'s picture as a convex polygon in raster px (y down
+/// from the top edge): the convex hull of its catalog vertices projected through the camera.
+pub fn silhouette_hull_px(block: &Block, camera: &Camera) -> Vec<DVec2> {
+    let h = f64::from(camera.size_px[1]);
     let raster: Vec<DVec2> = block
         .world_vertices()
         .into_iter()
         .map(|p| {
             let q = camera.picture_from_world(p);
-            DVec2::new(q.x, f64::from(h) - q.y)
+            DVec2::new(q.x, h - q.y)
         })
         .collect();
-    polygon_mask(&convex_hull(&raster), w, h)
+    convex_hull(&raster)
 }
 
 /// The mask of a convex polygon given in raster px (any winding): the pixels whose centres it

@@ -8,13 +8,14 @@
 //! at from any viewpoint outside blockworld.
 //!
 //! Beside it, the vision-tool exports of a dataset's views (docs/exports.md "Exports for vision
-//! tools (COCO, Hugging Face)"): [`coco`] records from [`masks`] (exact visible masks from the id pictures, full
+//! tools"): [`coco`] and [`bop`] records from [`masks`] (exact visible masks from the id pictures, full
 //! masks from projected silhouettes, COCO run lengths) and cameras in [`opencv`]'s convention.
 //!
 //! Units and axes: glTF is metres, +y up, right-handed. Those are blockworld's axes (docs/formats.md
 //! "Conventions"), so the only conversion is mm -> m (x 0.001). Everything here is pure: the
 //! functions return bytes and `cli` writes them.
 
+pub mod bop;
 pub mod coco;
 pub mod masks;
 mod mesh;

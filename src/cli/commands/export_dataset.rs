@@ -2,7 +2,7 @@
 //! [--split-seed S] [--rgb] [--jobs N]` (docs/wireframe.md "Wireframe datasets"): a generated
 //! dataset's exact line drawings as training sets for learned wireframe parsers. The work is
 //! `dataset::export_wireframes`; this command parses the flags, shows progress and prints the
-//! summary. `--format coco|hf` exports the views for vision tools (docs/exports.md) through
+//! summary. `--format coco|hf|bop` exports the views for vision tools (docs/exports.md) through
 //! `dataset::export_vision`.
 
 use crate::cli::progress::with_progress;
@@ -27,6 +27,9 @@ pub enum FormatArg {
     Coco,
     /// Hugging Face image folder: train/ with the pictures and metadata.jsonl.
     Hf,
+    /// BOP (6D object pose benchmark): models/, train_pbr/<scene>/, camera.json; needs a
+    /// dataset made with `generate --projection perspective`.
+    Bop,
 }
 
 impl FormatArg {
@@ -38,6 +41,7 @@ impl FormatArg {
             FormatArg::Letr => Ok(WireframeFormat::Letr),
             FormatArg::Coco => Err(VisionFormat::Coco),
             FormatArg::Hf => Err(VisionFormat::HuggingFace),
+            FormatArg::Bop => Err(VisionFormat::Bop),
         }
     }
 }
