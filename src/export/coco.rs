@@ -1,4 +1,4 @@
-//! COCO `instances` records of a dataset's views (docs/exports.md "COCO"): what detection and
+//! COCO `instances` records of a dataset's views (docs/export-coco.md): what detection and
 //! segmentation stacks, pycocotools and FiftyOne load with no code.
 //!
 //! One image per view of every scene; categories are the catalog's block types; one annotation
