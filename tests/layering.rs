@@ -49,6 +49,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "recognize",
             "csg",
             "score",
+            "physics",
             "drawing",
             "camera",
             "geom",

@@ -21,8 +21,14 @@
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
 
 mod report;
+mod stand;
+mod support;
 
 pub use report::{BlockReport, SettleReport};
+pub use stand::{check_standing, MoveCause, Movement, StandReport};
+pub use support::{
+    centre_of_mass_mm, centre_of_mass_overhang_mm, supports_of, Support, CONTACT_TOL_MM,
+};
 
 use crate::geom::{DQuat, DVec3};
 use crate::scene::{layer_bottoms_mm, layer_index, Block, Orientation, Scene};

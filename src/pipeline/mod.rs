@@ -8,15 +8,19 @@
 //! recognize`, which keep the rendered views for their own output, call [`observe`] and
 //! [`recognize_rendered`], the same two steps [`run_scene`] takes, so every caller runs the
 //! recognizer as `blockworld recognize` does (with the pictures for step 6 when the drawings
-//! were read from them). Each stage's time is counted where the stage is called
+//! were read from them), and every answer must stand ([`recognize_standing`], module
+//! `stand`). Each stage's time is counted where the stage is called
 //! ([`StageTimes`]), so benches print what the stages measured instead of re-running their
 //! steps. No file I/O.
+
+mod stand;
+
+pub use stand::{check_answer_stands, recognize_standing, Standing};
 
 use crate::camera::CornerView;
 use crate::csg::reconstruction;
 use crate::recognize::{
-    equally_good_alternative, recognize_in_pictures, ObservedView, Recognition, RecognizeError,
-    RecognizeOptions,
+    equally_good_alternative, ObservedView, Recognition, RecognizeError, RecognizeOptions,
 };
 use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{Reconstruction, Scene};
@@ -71,8 +75,10 @@ pub struct StageTimes {
     pub render_ms: f64,
     /// The vision front end (0 with exact drawings).
     pub vision_ms: f64,
-    /// The recognizer and its CSG.
+    /// The recognizer and its CSG (the standing check included).
     pub recognize_ms: f64,
+    /// The standing check alone (settling an `ok` answer; 0 for a decline).
+    pub stand_ms: f64,
     /// Scoring against the truth.
     pub score_ms: f64,
 }
@@ -90,6 +96,9 @@ pub struct SceneRun {
     /// Why the views cannot decide the scene, when they cannot ([`undecided_by_views`]): then
     /// declining is the right answer, and the scene is counted apart.
     pub undecided: Option<String>,
+    /// The score the recognizer's `ok` answer would have had when the standing check declined
+    /// it (`None` when the check changed nothing): how `bench accuracy` measures the check.
+    pub declined_by_standing: Option<SceneResult>,
     /// Time per stage.
     pub times: StageTimes,
 }
@@ -162,18 +171,29 @@ pub fn observe(
 
 /// Recognizes `views`, observed from `rendered` through `source` ([`observe`]), as `blockworld
 /// recognize` does: when the drawings were read from the pictures, step 6 reads the pictures
-/// too ([`recognize_in_pictures`]); exact drawings are recognized from the drawings alone.
+/// too (`recognize_in_pictures`); exact drawings are recognized from the drawings alone. The
+/// answer must stand ([`recognize_standing`]).
 pub fn recognize_rendered(
     rendered: &[RenderedView],
     views: &[ObservedView],
     source: &DrawingSource,
     opts: &RecognizeOptions,
 ) -> Result<Recognition, RecognizeError> {
+    recognize_rendered_standing(rendered, views, source, opts).map(|s| s.recognition)
+}
+
+/// [`recognize_rendered`] with what the standing check did ([`Standing`]).
+pub fn recognize_rendered_standing(
+    rendered: &[RenderedView],
+    views: &[ObservedView],
+    source: &DrawingSource,
+    opts: &RecognizeOptions,
+) -> Result<Standing, RecognizeError> {
     let pictures: Vec<&image::GrayImage> = match source {
         DrawingSource::Pictures(_) => rendered.iter().map(|v| &v.gray).collect(),
         DrawingSource::Truth => Vec::new(),
     };
-    recognize_in_pictures(views, &pictures, opts)
+    recognize_standing(views, &pictures, opts)
 }
 
 /// Renders `scene`, recognizes it and scores the answer against it (see the module doc).
@@ -183,6 +203,7 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
     let t = Instant::now();
     let rendered = renderer.render_views(scene, &opts.views, &opts.render);
     times.render_ms = ms_since(t);
+    let mut declined_answer = None;
     let answer = rendered
         .as_ref()
         .map_err(|e| NoReconstruction(format!("rendering: {e}")))
@@ -191,10 +212,12 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
                 observe(r, &opts.source).map_err(|e| NoReconstruction(format!("vision: {e}")))?;
             times.vision_ms = vision_ms;
             let t = Instant::now();
-            let recognition = recognize_rendered(r, &views, &opts.source, &opts.recognize)
+            let standing = recognize_rendered_standing(r, &views, &opts.source, &opts.recognize)
                 .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
-            let recon = reconstruction(&scene.name, &recognition, opts.layer_tol_mm);
+            let recon = reconstruction(&scene.name, &standing.recognition, opts.layer_tol_mm);
             times.recognize_ms = ms_since(t);
+            times.stand_ms = standing.check_ms;
+            declined_answer = standing.declined_answer;
             Ok(recon)
         });
     let unseen = rendered
@@ -213,11 +236,16 @@ pub fn run_scene(renderer: &Renderer, id: &str, scene: &Scene, opts: &PipelineOp
         &opts.score,
     );
     times.score_ms = ms_since(t);
+    let declined_by_standing = declined_answer.map(|r| {
+        let recon = reconstruction(&scene.name, &r, opts.layer_tol_mm);
+        score_suite_scene(id, scene, Ok(&recon), &opts.score)
+    });
     SceneRun {
         result,
         reconstruction: answer.ok(),
         unseen_blocks: unseen,
         undecided,
+        declined_by_standing,
         times,
     }
 }

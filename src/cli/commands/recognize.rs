@@ -1,7 +1,8 @@
 //! `blockworld recognize DIR -o RECON.json [--views ne,se,sw,nw] [--from-truth]`: the modified
 //! Kanade recognizer (thesis Chapters IV-V) on a directory as `render` writes it, per view
 //! `view_<v>.png` + `camera_<v>.json` (or the exact `lines_<v>.json` with `--from-truth`).
-//! Writes a reconstruction file: the scene-file blocks plus `status`, `reason` and the CSG tree
+//! An answer must stand (`pipeline::recognize_standing`: settled with rapier, declined when a
+//! block would move). Writes a reconstruction file: the scene-file blocks plus `status`, `reason` and the CSG tree
 //! (Figure 4.6).
 
 use crate::cli::files::{read_camera, read_drawing, read_picture};
@@ -9,7 +10,8 @@ use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
-use blockworld::recognize::{recognize_in_pictures, ObservedView, RecognizeOptions};
+use blockworld::pipeline::recognize_standing;
+use blockworld::recognize::{ObservedView, RecognizeOptions};
 use blockworld::scene::reconstruction_to_json;
 use blockworld::vision::{detect_line_drawing_with_progress, VisionOptions, VISION_STEPS};
 use std::path::{Path, PathBuf};
@@ -114,8 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unzip();
     let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
     let opts = RecognizeOptions::default();
-    let recognition = recognize_in_pictures(&observed, &pictures, &opts)
-        .with_context(|| format!("recognizing {}", args.dir.display()))?;
+    let recognition = recognize_standing(&observed, &pictures, &opts)
+        .with_context(|| format!("recognizing {}", args.dir.display()))?
+        .recognition;
     if let Some(debug) = &args.debug_dir {
         super::recognize_debug::write_debug_files(
             &args.dir,

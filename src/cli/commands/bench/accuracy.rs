@@ -166,6 +166,37 @@ fn print_scene_notes(
     }
 }
 
+/// What the standing check did (docs/recognizer.md "Reconstructions that must stand"): the
+/// answers it declined, what their verdicts would have been, and its cost per settled answer.
+fn print_standing_check(runs: &[blockworld::pipeline::SceneRun]) {
+    let declined: Vec<&SceneResult> = runs
+        .iter()
+        .filter_map(|r| r.declined_by_standing.as_ref())
+        .collect();
+    let settled: Vec<f64> = runs
+        .iter()
+        .map(|r| r.times.stand_ms)
+        .filter(|&ms| ms > 0.0)
+        .collect();
+    let mean_ms = settled.iter().sum::<f64>() / settled.len().max(1) as f64;
+    let max_ms = settled.iter().copied().fold(0.0, f64::max);
+    let exact = declined
+        .iter()
+        .filter(|r| r.verdict == blockworld::score::Verdict::Exact)
+        .count();
+    let ids: Vec<String> = declined
+        .iter()
+        .map(|r| format!("{} ({})", r.id, r.verdict.as_str()))
+        .collect();
+    println!(
+        "standing check: {} answers settled (mean {mean_ms:.1} ms, max {max_ms:.1} ms); {} declined, of which {exact} exact and {} confidently wrong before the check{}",
+        settled.len(),
+        declined.len(),
+        declined.len() - exact,
+        if ids.is_empty() { String::new() } else { format!(": {}", ids.join(", ")) }
+    );
+}
+
 /// The suite's results, per scene id how many blocks no view shows, and the scenes the views do
 /// not decide with why.
 type SuiteOutcome = (
@@ -209,6 +240,7 @@ fn run_recognizer(
     } else {
         run_suite(&renderer, suite, &opts)
     };
+    print_standing_check(&runs);
     let unseen = runs
         .iter()
         .map(|r| (r.result.id.clone(), r.unseen_blocks.len()))
