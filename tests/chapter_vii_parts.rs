@@ -245,18 +245,13 @@ fn check_round_part_rims(
 fn round_part_drawing_matches_a_ray_cast_of_the_exact_cylinder() {
     for (scene, round) in &round_scenes() {
         scene.validate(&scene.name).unwrap();
-        let pts: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
         for projection in PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 ..CameraOptions::default()
             };
             for view in CornerView::ALL {
-                let cam = Camera::frame(&pts, view, &opts);
+                let cam = common::frame(scene, view, &opts);
                 let d = visible_line_drawing(scene, &cam);
                 let what = format!("{} {view:?} {projection:?}", scene.name);
                 let curved = d.curved_lines.len();
@@ -369,22 +364,13 @@ fn parallelogram_search_fails_on_round_parts_chapter_vii() {
         ],
     );
     let views_of = |scene: &Scene, strip_flags: bool| -> Vec<ObservedView> {
-        let pts: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
-        CornerView::ALL
-            .iter()
-            .map(|&v| {
-                let camera = Camera::frame(&pts, v, &CameraOptions::default());
-                let mut drawing = visible_line_drawing(scene, &camera);
-                if strip_flags {
-                    drawing.curved_lines.clear();
-                }
-                ObservedView { drawing, camera }
-            })
-            .collect()
+        let mut views = common::exact_views(scene, &CornerView::ALL, &CameraOptions::default());
+        if strip_flags {
+            views
+                .iter_mut()
+                .for_each(|v| v.drawing.curved_lines.clear());
+        }
+        views
     };
     for v in views_of(&alone, true) {
         let search = ParallelogramSearch::new(&v.drawing, 2.0);

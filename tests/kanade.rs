@@ -7,7 +7,7 @@ use common::blockworld;
 
 use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::drawing::{Junction, LineDrawing};
-use blockworld::geom::{DVec2, DVec3};
+use blockworld::geom::DVec2;
 use blockworld::kanade::{
     check_labelling, computer_words, depth_rms_px, derived_rows, extension_reason,
     gradient_label_sets, is_consistent, junction_facts, junction_sites, label_drawing,
@@ -222,12 +222,7 @@ const VIEWS: [CornerView; 4] = [
 ];
 
 fn camera(scene: &Scene, view: CornerView) -> Camera {
-    let pts: Vec<DVec3> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
-    Camera::frame(&pts, view, &CameraOptions::default())
+    common::frame(scene, view, &CameraOptions::default())
 }
 
 fn truth(scene: &Scene, view: CornerView) -> (LineDrawing, Vec<LineLabel>) {

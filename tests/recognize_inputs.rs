@@ -4,6 +4,8 @@
 
 include!("fuzz/fuzz_targets/recognize_check.rs");
 
+mod common;
+
 use blockworld::recognize::{recognize, RecognizeError, RecognizeOptions};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -43,9 +45,8 @@ const MUTANTS_ANSWERED: usize = 1;
 /// reason (seed 29: 39 damaged, 39 declined).
 #[test]
 fn mutated_real_drawings_are_answered_or_declined() {
-    use blockworld::camera::{Camera, CameraOptions, CornerView};
+    use blockworld::camera::{CameraOptions, CornerView};
     use blockworld::geom::DVec2;
-    use blockworld::linedraw::visible_line_drawing;
     use blockworld::recognize::ObservedView;
     use blockworld::scene::{read_scene, ReconStatus};
     let scene = read_scene(std::path::Path::new(concat!(
@@ -53,19 +54,7 @@ fn mutated_real_drawings_are_answered_or_declined() {
         "/scenes/two_layer.json"
     )))
     .unwrap();
-    let points: Vec<_> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
-    let exact: Vec<ObservedView> = CornerView::ALL
-        .iter()
-        .map(|&v| {
-            let camera = Camera::frame(&points, v, &CameraOptions::default());
-            let drawing = visible_line_drawing(&scene, &camera);
-            ObservedView { drawing, camera }
-        })
-        .collect();
+    let exact = common::exact_views(&scene, &CornerView::ALL, &CameraOptions::default());
     let r = recognize(&exact, &RecognizeOptions::default()).unwrap();
     let recon = blockworld::csg::reconstruction(&scene.name, &r, 0.5);
     let score = blockworld::score::score_reconstruction(&scene, &recon).unwrap();

@@ -5,9 +5,7 @@
 
 mod common;
 
-use blockworld::camera::{Camera, CameraOptions, CornerView, Projection};
-use blockworld::drawing::LineDrawing;
-use blockworld::linedraw::visible_line_drawing;
+use blockworld::camera::{CameraOptions, CornerView, Projection};
 use blockworld::pipeline::undecided_by_views;
 use blockworld::recognize::{
     check_hypothesis, recognize, ObservedView, Recognition, RecognizeOptions,
@@ -20,28 +18,7 @@ use std::collections::BTreeMap;
 
 /// The views of `scene` exactly as `render` frames them, with their exact drawings.
 fn truth_views(scene: &Scene, views: &[CornerView]) -> Vec<ObservedView> {
-    truth_views_with(scene, views, &CameraOptions::default())
-}
-
-/// [`truth_views`] with explicit camera options.
-fn truth_views_with(
-    scene: &Scene,
-    views: &[CornerView],
-    opts: &CameraOptions,
-) -> Vec<ObservedView> {
-    let points: Vec<_> = scene
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
-    views
-        .iter()
-        .map(|&v| {
-            let camera = Camera::frame(&points, v, opts);
-            let drawing: LineDrawing = visible_line_drawing(scene, &camera);
-            ObservedView { drawing, camera }
-        })
-        .collect()
+    common::exact_views(scene, views, &CameraOptions::default())
 }
 
 /// `true` when the views show the blocks and decide them (`pipeline::undecided_by_views`).
@@ -188,7 +165,7 @@ fn perspective_views_from_truth_are_never_confidently_wrong() {
         ..CameraOptions::default()
     };
     let outcomes = run_suite_on(&CornerView::ALL, &|t: &Scene| {
-        truth_views_with(t, &CornerView::ALL, &opts)
+        common::exact_views(t, &CornerView::ALL, &opts)
     });
     let (exact, wrong, n) = table("four perspective views (30 degrees), from truth", &outcomes);
     assert_eq!(wrong, 0, "confidently wrong answers");

@@ -33,13 +33,8 @@ fn scene(blocks: &[(&str, [f64; 3], f64)]) -> Scene {
     )
 }
 
-fn camera_with(s: &Scene, view: CornerView, opts: &CameraOptions) -> Camera {
-    let pts: Vec<DVec3> = s.blocks.iter().flat_map(|b| b.world_vertices()).collect();
-    Camera::frame(&pts, view, opts)
-}
-
 fn camera(s: &Scene, view: CornerView) -> Camera {
-    camera_with(s, view, &CameraOptions::default())
+    common::frame(s, view, &CameraOptions::default())
 }
 
 fn drawing(s: &Scene, view: CornerView) -> LineDrawing {
@@ -229,7 +224,7 @@ fn perspective_cube_has_the_orthographic_topology() {
     for view in CornerView::ALL {
         let s = single(B15);
         let ortho = drawing(&s, view);
-        let persp = visible_line_drawing(&s, &camera_with(&s, view, &opts));
+        let persp = visible_line_drawing(&s, &common::frame(&s, view, &opts));
         let msg = format!("{view:?}\n{}", describe(&persp));
         assert_eq!(persp.points.len(), ortho.points.len(), "{msg}");
         assert_eq!(persp.lines.len(), ortho.lines.len(), "{msg}");
@@ -249,7 +244,7 @@ fn perspective_cube_has_the_orthographic_topology() {
     // A perspective stack passes the ray-cast validator too.
     let s = b15_on_b30();
     for view in CornerView::ALL {
-        let cam = camera_with(&s, view, &opts);
+        let cam = common::frame(&s, view, &opts);
         let d = visible_line_drawing(&s, &cam);
         let bad = validate_by_ray_casting(&s, &cam, &d);
         assert!(bad.is_empty(), "{view:?}: {bad:?}\n{}", describe(&d));

@@ -94,7 +94,7 @@ mod tests {
     #[test]
     fn the_reference_vertex_is_the_leftmost_in_the_picture() {
         let blocks = stack();
-        let v: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+        let v = crate::scene::world_vertices(&blocks);
         let cam = Camera::frame(&v, CornerView::Ne, &CameraOptions::default());
         let r = reference_vertex_mm(&blocks, &cam).unwrap();
         let rx = cam.picture_from_world(r).x;

@@ -151,7 +151,7 @@ pub fn recognize_in_pictures(
 /// the observed input of the recognizer's unit tests.
 #[cfg(test)]
 pub(crate) fn views_of(blocks: &[crate::scene::Block], which: &[CornerView]) -> Vec<ObservedView> {
-    let pts: Vec<crate::geom::DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
+    let pts = crate::scene::world_vertices(blocks);
     which
         .iter()
         .map(|&v| {

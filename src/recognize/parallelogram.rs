@@ -341,12 +341,11 @@ mod tests {
                 Block::new("b15", DVec3::new(22.5, 7.5, 7.5), 0.0),
             ],
         );
-        let verts: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
-        let cam = Camera::frame(&verts, CornerView::Se, &CameraOptions::default());
+        let cam = Camera::frame(
+            &scene.world_vertices(),
+            CornerView::Se,
+            &CameraOptions::default(),
+        );
         let d = visible_line_drawing(&scene, &cam);
         let search = ParallelogramSearch::new(&d, 0.5);
         let longest = select_vertices(&d)

@@ -431,8 +431,11 @@ mod tests {
     }
 
     fn cam(blocks: &[Block], view: CornerView) -> Camera {
-        let v: Vec<DVec3> = blocks.iter().flat_map(|b| b.world_vertices()).collect();
-        Camera::frame(&v, view, &CameraOptions::default())
+        Camera::frame(
+            &crate::scene::world_vertices(blocks),
+            view,
+            &CameraOptions::default(),
+        )
     }
 
     #[test]

@@ -754,11 +754,7 @@ mod tests {
                 .map(|i| Block::new("b15", DVec3::new(15.0 * i as f64, 7.5, 0.0), 0.0))
                 .collect(),
         );
-        let points: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
+        let points = scene.world_vertices();
         let mut orders = Vec::new();
         for view in CornerView::ALL {
             let cam = Camera::frame(&points, view, &CameraOptions::default());

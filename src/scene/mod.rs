@@ -159,6 +159,12 @@ pub struct Expect {
     pub reason: Option<String>,
 }
 
+/// The polyhedron vertices of `blocks` in world mm, block by block: the points a camera is
+/// framed around (`Camera::frame`), the one home of that idiom for a scene or a bare block list.
+pub fn world_vertices(blocks: &[Block]) -> Vec<DVec3> {
+    blocks.iter().flat_map(|b| b.world_vertices()).collect()
+}
+
 /// A scene: blocks on the floor plus an optional expectation and provenance. A recognizer's
 /// answer is a [`Reconstruction`].
 #[derive(Debug, Clone, PartialEq)]
@@ -175,12 +181,9 @@ pub struct Scene {
 
 impl Scene {
     /// Every block's polyhedron vertices in world mm, block by block: the points a camera is
-    /// framed around (`Camera::frame`), the one home of that idiom.
+    /// framed around (`Camera::frame`); see [`world_vertices`].
     pub fn world_vertices(&self) -> Vec<DVec3> {
-        self.blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect()
+        world_vertices(&self.blocks)
     }
 
     /// A scene with the given name and blocks and no metadata.

@@ -77,12 +77,8 @@ impl ViewParams {
     /// (1, 1, 1)), At at the centre of their bounds, Up = +y, far enough that the bounding
     /// sphere fits the view angle.
     pub fn framing(scenes: &[&Scene], view_angle_deg: f64) -> Result<ViewParams, ViewError> {
-        let (lo, hi) = bounds3(
-            scenes
-                .iter()
-                .flat_map(|s| s.blocks.iter().flat_map(|b| b.world_vertices())),
-        )
-        .ok_or(ViewError::NothingToView)?;
+        let (lo, hi) = bounds3(scenes.iter().flat_map(|s| s.world_vertices()))
+            .ok_or(ViewError::NothingToView)?;
         check_angle(view_angle_deg)?;
         let at_mm = (lo + hi) / 2.0;
         let radius = ((hi - lo) / 2.0).length().max(1.0);

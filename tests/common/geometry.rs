@@ -1,7 +1,28 @@
 //! Picture and block geometry that the checks of several test files share.
 
+use blockworld::camera::{Camera, CameraOptions, CornerView};
 use blockworld::geom::DVec2;
-use blockworld::scene::Block;
+use blockworld::linedraw::visible_line_drawing;
+use blockworld::recognize::ObservedView;
+use blockworld::scene::{Block, Scene};
+
+/// The camera of `view` framed on every block of `scene`, as `render` frames it.
+pub fn frame(scene: &Scene, view: CornerView, opts: &CameraOptions) -> Camera {
+    Camera::frame(&scene.world_vertices(), view, opts)
+}
+
+/// The exact line drawings of `scene` in `views`, each with its camera ([`frame`]): the
+/// recognizer's input when the pictures are read without error.
+pub fn exact_views(scene: &Scene, views: &[CornerView], opts: &CameraOptions) -> Vec<ObservedView> {
+    views
+        .iter()
+        .map(|&v| {
+            let camera = frame(scene, v, opts);
+            let drawing = visible_line_drawing(scene, &camera);
+            ObservedView { drawing, camera }
+        })
+        .collect()
+}
 
 /// Distance (px) from `p` to the segment `a`–`b` in the picture: to the foot of the
 /// perpendicular when it falls on the segment, else to the nearer end (to `a` when the segment
