@@ -178,6 +178,19 @@ pub fn touching_box_pairs(boxes: &[(DVec3, DVec3)]) -> Vec<[usize; 2]> {
     pairs
 }
 
+/// Distance (px) from the picture point `p` to the segment `a`-`b`: to the foot of the
+/// perpendicular when it falls on the segment, else to the nearer end (to `a` when the segment
+/// has no length). The one home of this distance in src and tests.
+pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    if len2 == 0.0 {
+        return p.distance(a);
+    }
+    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
+    p.distance(a + ab * t)
+}
+
 /// Axis-aligned bounds (min, max) of picture points; `None` when there are none.
 pub fn bounds2(points: impl IntoIterator<Item = DVec2>) -> Option<(DVec2, DVec2)> {
     points.into_iter().fold(None, |acc, v| match acc {
@@ -288,6 +301,15 @@ impl UnionFind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn segment_distance_is_perpendicular_inside_and_to_the_end_outside() {
+        let (a, b) = (DVec2::ZERO, DVec2::new(10.0, 0.0));
+        assert_eq!(distance_to_segment_px(DVec2::new(5.0, 3.0), a, b), 3.0);
+        assert_eq!(distance_to_segment_px(DVec2::new(13.0, 4.0), a, b), 5.0);
+        assert_eq!(distance_to_segment_px(DVec2::new(-3.0, -4.0), a, b), 5.0);
+        assert_eq!(distance_to_segment_px(DVec2::new(3.0, 4.0), a, a), 5.0);
+    }
 
     #[test]
     fn the_median_is_an_observed_value_the_upper_middle_of_an_even_count() {

@@ -247,6 +247,7 @@ fn take_lowest_first(
 mod tests {
     use super::*;
     use crate::recognize::grid_cubes;
+    use crate::scene::same_blocks;
 
     fn candidate(id: &'static str, y: f64, views: usize, fits: usize) -> PooledCandidate {
         PooledCandidate {
@@ -310,15 +311,6 @@ mod tests {
         (direct_hypothesis(&pool, &views, opts.tol_px), blind)
     }
 
-    fn same_blocks(a: &[Block], b: &[Block]) -> bool {
-        a.len() == b.len()
-            && a.iter().all(|x| {
-                b.iter().any(|y| {
-                    x.block_type.id == y.block_type.id && x.center_mm.distance(y.center_mm) < 0.01
-                })
-            })
-    }
-
     #[test]
     fn ghosts_of_a_grid_layer_are_left_out_and_real_upper_blocks_kept() {
         // The 3 x 3 layer with a row of three on top (`bench render`'s 12-block stack): two
@@ -329,7 +321,7 @@ mod tests {
         ]
         .concat();
         let (direct, blind) = direct_from(&stack);
-        assert!(same_blocks(&direct, &stack), "{direct:?}");
+        assert!(same_blocks(&direct, &stack, 0.01), "{direct:?}");
         assert!(
             blind.iter().any(|b| b.block_type.id == "b7_5"),
             "without the ghost test the direct path takes a ghost: {blind:?}"
@@ -341,12 +333,12 @@ mod tests {
             grid_cubes(1, &[1]),
         ]
         .concat();
-        assert!(same_blocks(&direct_from(&on_edge).0, &on_edge));
+        assert!(same_blocks(&direct_from(&on_edge).0, &on_edge, 0.01));
         // Two full layers: the upper middle shows no side, but its neighbours cover every
         // side, so it is no ghost.
         let all = [0, 1, 2, 3, 4, 5, 6, 7, 8];
         let two_layers = [grid_cubes(0, &all), grid_cubes(1, &all)].concat();
-        assert!(same_blocks(&direct_from(&two_layers).0, &two_layers));
+        assert!(same_blocks(&direct_from(&two_layers).0, &two_layers, 0.01));
     }
 
     #[test]

@@ -21,12 +21,12 @@
 //! a difference between its redraw and the drawing is a failure of the front end or of the
 //! hypothesis.
 
-use super::verify::{
-    distance_to_segment_px, mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch,
-};
+use super::verify::{mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch};
 use super::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{convex_hull, gray_at, inside_convex, median, noise_levels, DVec2, DVec3};
+use crate::geom::{
+    convex_hull, distance_to_segment_px, gray_at, inside_convex, median, noise_levels, DVec2, DVec3,
+};
 use image::GrayImage;
 
 /// A view's picture with its noise and scale, read once.

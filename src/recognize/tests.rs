@@ -3,7 +3,7 @@
 use super::*;
 use crate::camera::{CameraOptions, CornerView, Projection};
 use crate::geom::DVec3;
-use crate::scene::{Block, ReconStatus};
+use crate::scene::{same_blocks, Block, ReconStatus};
 
 #[test]
 fn a_two_layer_stack_is_recognized_from_two_opposite_views() {
@@ -70,19 +70,6 @@ fn bad_input_is_an_error_and_a_turned_block_is_declined_by_name() {
     assert!(r.reason.unwrap().contains("not in one direction"));
 }
 
-/// `true` when `got` holds the blocks of `truth`: same types, centres within 0.05 mm and
-/// the same orientation.
-fn same_blocks(got: &[Block], truth: &[Block]) -> bool {
-    got.len() == truth.len()
-        && truth.iter().all(|t| {
-            got.iter().any(|b| {
-                b.block_type.id == t.block_type.id
-                    && b.center_mm.distance(t.center_mm) < 0.05
-                    && b.orientation == t.orientation
-            })
-        })
-}
-
 /// Chapter VII, Figure 7.1: a trapezoidal block facing each of the four ways, alone, on a
 /// Baustein 30 and carrying a cube on its flat top, is reconstructed with its turn from the
 /// four views.
@@ -109,7 +96,11 @@ fn wedges_facing_each_way_are_reconstructed_with_their_turn() {
                 "yaw {yaw} {truth:?}: {:?}",
                 r.reason
             );
-            assert!(same_blocks(&r.blocks, &truth), "yaw {yaw}: {:?}", r.blocks);
+            assert!(
+                same_blocks(&r.blocks, &truth, 0.05),
+                "yaw {yaw}: {:?}",
+                r.blocks
+            );
         }
     }
 }

@@ -6,7 +6,7 @@
 
 use super::{Camera, ObservedView};
 use crate::drawing::LineDrawing;
-use crate::geom::DVec2;
+use crate::geom::{distance_to_segment_px, DVec2};
 use crate::linedraw::visible_line_drawing;
 use crate::scene::{Block, Scene};
 
@@ -37,17 +37,6 @@ impl ViewCheck {
 
 fn near_point(p: DVec2, pts: &[DVec2], tol_px: f64) -> bool {
     pts.iter().any(|q| q.distance(p) <= tol_px)
-}
-
-/// Distance from `p` to the segment `a`-`b`, px.
-pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    if len2 == 0.0 {
-        return p.distance(a);
-    }
-    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
-    p.distance(a + ab * t)
 }
 
 /// One line of a drawing with what the comparison needs of it, computed once.
@@ -465,12 +454,5 @@ mod tests {
         moved[1].center_mm.x += 15.0;
         let moved = compare_drawings(&draw_hypothesis(&moved, &c), &observed, 1.0);
         assert!(!moved.is_explained(), "{moved:?}");
-    }
-
-    #[test]
-    fn segment_distance_is_perpendicular_inside_and_to_the_end_outside() {
-        let (a, b) = (DVec2::ZERO, DVec2::new(10.0, 0.0));
-        assert_eq!(distance_to_segment_px(DVec2::new(5.0, 3.0), a, b), 3.0);
-        assert_eq!(distance_to_segment_px(DVec2::new(13.0, 4.0), a, b), 5.0);
     }
 }

@@ -165,6 +165,24 @@ pub fn world_vertices(blocks: &[Block]) -> Vec<DVec3> {
     blocks.iter().flat_map(|b| b.world_vertices()).collect()
 }
 
+/// `true` when `got` holds the blocks of `truth`: as many blocks, and for each of `truth` one of
+/// `got` of the same type with every corner within `tol_mm` of one of its corners (the same
+/// solid whatever symmetry its turn has; a wedge has none, so its facing counts). The one home
+/// of this comparison for the unit and integration tests.
+pub fn same_blocks(got: &[Block], truth: &[Block], tol_mm: f64) -> bool {
+    got.len() == truth.len()
+        && truth.iter().all(|t| {
+            let corners = t.world_vertices();
+            got.iter().any(|b| {
+                let mine = b.world_vertices();
+                b.block_type.id == t.block_type.id
+                    && corners
+                        .iter()
+                        .all(|p| mine.iter().any(|q| q.distance(*p) < tol_mm))
+            })
+        })
+}
+
 /// A scene: blocks on the floor plus an optional expectation and provenance. A recognizer's
 /// answer is a [`Reconstruction`].
 #[derive(Debug, Clone, PartialEq)]
@@ -320,6 +338,22 @@ mod tests {
             close.validate("t"),
             Err(SceneError::Overlap { a: 0, b: 1, .. })
         ));
+    }
+
+    #[test]
+    fn same_blocks_is_blind_to_symmetry_but_not_to_a_shift_a_facing_or_a_type() {
+        let b30 = Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0);
+        let wedge = Block::new("w30", DVec3::new(0.0, 7.5, 0.0), 0.0);
+        let truth = [b30, wedge];
+        let turned = Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 180.0);
+        assert!(same_blocks(&[wedge, turned], &truth, 0.05));
+        let shifted = Block::new("b30", DVec3::new(15.1, 7.5, 7.5), 0.0);
+        assert!(!same_blocks(&[shifted, wedge], &truth, 0.05));
+        let facing_back = Block::new("w30", DVec3::new(0.0, 7.5, 0.0), 180.0);
+        assert!(!same_blocks(&[b30, facing_back], &truth, 0.05));
+        let cube = Block::new("b15", DVec3::new(15.0, 7.5, 7.5), 0.0);
+        assert!(!same_blocks(&[cube, wedge], &truth, 0.05));
+        assert!(!same_blocks(&[b30], &truth, 0.05));
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 use super::lines::FittedLine;
 use crate::drawing::LineDrawing;
+use crate::geom::distance_to_segment_px;
 
 /// Tolerances of [`match_vertices_with_tolerances`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -126,12 +127,10 @@ pub fn line_angle_errors_deg(
         for &[a, b] in &truth.lines {
             let (p, q) = (truth.points[a], truth.points[b]);
             let d = q - p;
-            let len2 = d.length_squared();
-            if len2 == 0.0 {
+            if d.length_squared() == 0.0 {
                 continue;
             }
-            let s = ((mid - p).dot(d) / len2).clamp(0.0, 1.0);
-            let dist = mid.distance(p + d * s);
+            let dist = distance_to_segment_px(mid, p, q);
             let cos = (d.normalize().dot(f.direction)).abs().min(1.0);
             let angle = cos.acos().to_degrees();
             if dist <= tol.distance_px
