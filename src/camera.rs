@@ -99,6 +99,14 @@ pub enum Projection {
     },
 }
 
+/// One projection of each kind, the perspective one with a 30-degree field of view: the
+/// projections the unit tests run their checks in.
+#[cfg(test)]
+pub(crate) const BOTH_PROJECTIONS: [Projection; 2] = [
+    Projection::Orthographic,
+    Projection::Perspective { fov_y_deg: 30.0 },
+];
+
 /// How to take a view: picture size, camera angles, projection, framing.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CameraOptions {
@@ -413,10 +421,7 @@ mod tests {
 
     #[test]
     fn framing_fills_with_margin_and_rays_round_trip() {
-        for projection in [
-            Projection::Orthographic,
-            Projection::Perspective { fov_y_deg: 30.0 },
-        ] {
+        for projection in BOTH_PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 pixel_aspect: 1.173913,

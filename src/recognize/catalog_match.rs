@@ -448,25 +448,32 @@ mod tests {
     use crate::recognize::{CameraOptions, CornerView};
     use crate::scene::Scene;
 
+    /// The exact drawing of `b` alone in `view`, with its camera.
+    fn alone(b: Block, view: CornerView, opts: &CameraOptions) -> (Camera, LineDrawing) {
+        let cam = Camera::frame(&b.world_vertices(), view, opts);
+        (cam, visible_line_drawing(&Scene::new("one", vec![b]), &cam))
+    }
+
+    /// The near top face found from the drawing's fork (code 22).
+    fn fork_top_face(d: &LineDrawing) -> Parallelogram {
+        let fork = select_vertices(d)
+            .into_iter()
+            .find(|v| v.code.0 == 22)
+            .unwrap();
+        let search = ParallelogramSearch::new(d, 0.5);
+        search.search(&fork, F::Top(TopCorner::Near)).unwrap()
+    }
+
     #[test]
     fn a_b30_top_face_measures_30_by_15_by_15_mm_in_both_projections() {
         let b = Block::new("b30", DVec3::new(15.0, 7.5, 7.5), 0.0);
-        for projection in [
-            crate::recognize::Projection::Orthographic,
-            crate::recognize::Projection::Perspective { fov_y_deg: 30.0 },
-        ] {
+        for projection in crate::camera::BOTH_PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 ..CameraOptions::default()
             };
-            let cam = Camera::frame(&b.world_vertices(), CornerView::Sw, &opts);
-            let d = visible_line_drawing(&Scene::new("one", vec![b]), &cam);
-            let search = ParallelogramSearch::new(&d, 0.5);
-            let fork = select_vertices(&d)
-                .into_iter()
-                .find(|v| v.code.0 == 22)
-                .unwrap();
-            let p = search.search(&fork, F::Top(TopCorner::Near)).unwrap();
+            let (cam, d) = alone(b, CornerView::Sw, &opts);
+            let p = fork_top_face(&d);
             let m =
                 measure_parallelogram_mm(&p, &d, &cam, 15.0, &MatchTolerances::default()).unwrap();
             let mut sides = m.closed_side_mm.unwrap();
@@ -493,13 +500,7 @@ mod tests {
     #[test]
     fn a_b30_fork_yields_the_b30_at_its_true_level_among_the_candidates() {
         let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
-        let scene = Scene::new("one", vec![truth]);
-        let cam = Camera::frame(
-            &truth.world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
-        let d = visible_line_drawing(&scene, &cam);
+        let (cam, d) = alone(truth, CornerView::Ne, &CameraOptions::default());
         let search = ParallelogramSearch::new(&d, 0.5);
         let levels = level_heights_mm(45.0);
         let mut all = Vec::new();
@@ -526,18 +527,8 @@ mod tests {
     #[test]
     fn only_the_block_with_the_closed_parallelograms_sides_fits_it_exactly() {
         let truth = Block::new("b30", DVec3::new(15.0, 22.5, 7.5), 0.0);
-        let cam = Camera::frame(
-            &truth.world_vertices(),
-            CornerView::Ne,
-            &CameraOptions::default(),
-        );
-        let d = visible_line_drawing(&Scene::new("one", vec![truth]), &cam);
-        let search = ParallelogramSearch::new(&d, 0.5);
-        let fork = select_vertices(&d)
-            .into_iter()
-            .find(|v| v.code.0 == 22)
-            .unwrap();
-        let p = search.search(&fork, F::Top(TopCorner::Near)).unwrap();
+        let (cam, d) = alone(truth, CornerView::Ne, &CameraOptions::default());
+        let p = fork_top_face(&d);
         assert!(p.closed.is_some());
         let all = catalog_proposals(&p, &d, &cam, &level_heights_mm(45.0), &Default::default());
         let fits: Vec<&Proposal> = all.iter().filter(|c| c.closed_fit).collect();

@@ -53,7 +53,7 @@ pub(crate) use catalog_match::classify_layers;
 /// its own module is a one-line change).
 pub(crate) use crate::camera::Camera;
 #[cfg(test)]
-pub(crate) use crate::camera::{CameraOptions, CornerView, Projection};
+pub(crate) use crate::camera::{CameraOptions, CornerView};
 
 use crate::scene::ReconStatus;
 use answer::Decline;

@@ -360,10 +360,7 @@ mod tests {
     #[test]
     fn rays_give_millimetres_exactly_in_both_projections() {
         let corner = DVec3::new(15.0, 15.0, 0.0);
-        for projection in [
-            crate::recognize::Projection::Orthographic,
-            crate::recognize::Projection::Perspective { fov_y_deg: 30.0 },
-        ] {
+        for projection in crate::camera::BOTH_PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 ..CameraOptions::default()

@@ -567,10 +567,7 @@ mod tests {
     fn computed_floor_depth_is_the_ray_cast_depth_rounded_in_both_projections() {
         let scene = cube();
         let pts = scene.blocks[0].world_vertices();
-        for projection in [
-            crate::camera::Projection::Orthographic,
-            crate::camera::Projection::Perspective { fov_y_deg: 30.0 },
-        ] {
+        for projection in crate::camera::BOTH_PROJECTIONS {
             let opts = CameraOptions {
                 projection,
                 size_px: [333, 97],
