@@ -9,27 +9,40 @@ use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3, UnionFind};
 use crate::scene::Block;
 
-/// Lines of `drawing` whose picture direction is not that of a world axis (x, y or z) seen by
-/// `camera` within `tol_deg`: the edges of a block turned by other than a multiple of 90
-/// degrees (Chapter VII: "the gradients have to be changed to deal with different block
-/// directions"). In perspective views each axis direction is taken towards its vanishing point.
-pub fn lines_off_the_axes(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) -> Vec<usize> {
+/// The angle between the picture line `pa`-`pb` and the picture direction of each world
+/// direction of `dirs` at the line's middle, degrees (0 to 90), in `dirs`' order. In
+/// perspective views each direction is taken towards its vanishing point: a unit step along it
+/// from the point of the scene's centre depth that the middle shows.
+pub fn picture_angles_deg(camera: &Camera, (pa, pb): (DVec2, DVec2), dirs: &[DVec3]) -> Vec<f64> {
     let target = DVec3::from_array(camera.target_mm);
+    let mid = (pa + pb) / 2.0;
+    let (o, d) = camera.ray_through_picture(mid.x, mid.y);
+    let at = o + d * (target - o).dot(d);
+    let p0 = camera.picture_from_world(at).truncate();
+    dirs.iter()
+        .map(|dir| {
+            let q: DVec2 = camera.picture_from_world(at + *dir).truncate() - p0;
+            let ang = q.angle_to(pb - pa).abs().to_degrees();
+            ang.min(180.0 - ang)
+        })
+        .collect()
+}
+
+/// Lines of `drawing` whose picture direction is not that of a world axis (x, y or z) seen by
+/// `camera` within `tol_deg` ([`picture_angles_deg`]): the edges of a block turned by other
+/// than a multiple of 90 degrees (Chapter VII: "the gradients have to be changed to deal with
+/// different block directions").
+pub fn lines_off_the_axes(drawing: &LineDrawing, camera: &Camera, tol_deg: f64) -> Vec<usize> {
+    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
     drawing
         .lines
         .iter()
         .enumerate()
         .filter(|(_, &[a, b])| {
-            let (pa, pb) = (drawing.points[a], drawing.points[b]);
-            let mid = (pa + pb) / 2.0;
-            let (o, d) = camera.ray_through_picture(mid.x, mid.y);
-            let at = o + d * (target - o).dot(d);
-            let p0 = camera.picture_from_world(at).truncate();
-            ![DVec3::X, DVec3::Y, DVec3::Z].iter().any(|axis| {
-                let q: DVec2 = camera.picture_from_world(at + *axis).truncate() - p0;
-                let ang = q.angle_to(pb - pa).abs().to_degrees();
-                ang.min(180.0 - ang) <= tol_deg
-            })
+            let ends = (drawing.points[a], drawing.points[b]);
+            picture_angles_deg(camera, ends, &axes)
+                .iter()
+                .all(|&ang| ang > tol_deg)
         })
         .map(|(i, _)| i)
         .collect()

@@ -15,6 +15,7 @@
 //! and [`trapezoid_proposals`], the trapezoidal block's entry into the recognizer's pool.
 
 use super::catalog_match::{MatchTolerances, Proposal};
+use super::constraints::picture_angles_deg;
 use super::parallelogram::{horizontal_axis_on, ray_at_height};
 use super::Camera;
 use crate::camera::Projector;
@@ -39,8 +40,8 @@ pub struct FaceGradient {
 
 /// The world direction (unit) whose picture direction at line `line`'s middle is nearest the
 /// line's, within `tol_deg`: the nearest axis if one is that close, else the nearest of
-/// [`EdgeAxis::TRAPEZOID_SLOPES`]; in perspective views each direction is taken towards its vanishing point, as in
-/// `lines_off_the_axes`.
+/// [`EdgeAxis::TRAPEZOID_SLOPES`]; in perspective views each direction is taken towards its
+/// vanishing point ([`picture_angles_deg`]).
 pub fn line_world_direction(
     drawing: &LineDrawing,
     camera: &Camera,
@@ -48,27 +49,19 @@ pub fn line_world_direction(
     tol_deg: f64,
 ) -> Option<DVec3> {
     let [a, b] = drawing.lines[line];
-    let (pa, pb) = (drawing.points[a], drawing.points[b]);
-    let target = DVec3::from_array(camera.target_mm);
-    let mid = (pa + pb) / 2.0;
-    let (o, d) = camera.ray_through_picture(mid.x, mid.y);
-    let at = o + d * (target - o).dot(d);
-    let p0 = camera.picture_from_world(at).truncate();
-    let best = |dirs: &mut dyn Iterator<Item = DVec3>| {
-        dirs.map(|dir| {
-            let q: DVec2 = camera.picture_from_world(at + dir).truncate() - p0;
-            let ang = q.angle_to(pb - pa).abs().to_degrees();
-            (dir, ang.min(180.0 - ang))
-        })
-        .filter(|&(_, ang)| ang <= tol_deg)
-        .min_by(|x, y| x.1.total_cmp(&y.1))
-        .map(|(dir, _)| dir)
+    let ends = (drawing.points[a], drawing.points[b]);
+    let best = |dirs: &[DVec3]| {
+        dirs.iter()
+            .zip(picture_angles_deg(camera, ends, dirs))
+            .filter(|&(_, ang)| ang <= tol_deg)
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .map(|(dir, _)| *dir)
     };
     // An axis first: where a slope projects parallel to an axis (in isometric corner views a
     // 45-degree slope in a vertical plane does, in two of the four views), the line is read as
     // the solid blocks' axis, so no sloped face is ever invented.
     let slopes = EdgeAxis::TRAPEZOID_SLOPES.map(EdgeAxis::world_direction);
-    best(&mut [DVec3::X, DVec3::Y, DVec3::Z].into_iter()).or_else(|| best(&mut slopes.into_iter()))
+    best(&[DVec3::X, DVec3::Y, DVec3::Z]).or_else(|| best(&slopes))
 }
 
 /// The face planes spanned at the L, fork and arrow junctions of `drawing` by pairs of lines
