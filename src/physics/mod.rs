@@ -20,15 +20,23 @@
 //! the measured drift goes into `meta.settle`; the exact line drawing keeps every seam and
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
 
+mod fall;
+mod motion;
 mod report;
 mod stand;
 mod support;
 
+pub use fall::{block_cause, label_stability, Cause, StabilityLabel};
+pub use motion::{
+    FirstMove, Motion, Trajectory, TrajectoryError, TRAJECTORY_FPS, TRAJECTORY_MAGIC,
+};
 pub use report::{BlockReport, SettleReport};
 pub use stand::{check_standing, MoveCause, Movement, StandReport};
 pub use support::{
     centre_of_mass_mm, centre_of_mass_overhang_mm, supports_of, Support, CONTACT_TOL_MM,
 };
+
+use motion::Recorder;
 
 use crate::geom::{DQuat, DVec3};
 use crate::scene::{layer_bottoms_mm, layer_index, Block, Orientation, Scene};
@@ -159,6 +167,35 @@ pub enum PhysicsError {
 /// Deterministic: the same scene and parameters give bit-identical results (rapier's
 /// `enhanced-determinism`; one thread per scene).
 pub fn settle(scene: &Scene, params: &SettleParams) -> Result<Settled, PhysicsError> {
+    simulate(scene, params, None)
+}
+
+/// [`settle`], watching every step (docs/stability.md "The label"): the same simulation, bit
+/// for bit, and its [`Motion`], with the trajectory at [`TRAJECTORY_FPS`] when `trajectory`.
+pub fn settle_recorded(
+    scene: &Scene,
+    params: &SettleParams,
+    trajectory: bool,
+) -> Result<(Settled, Motion), PhysicsError> {
+    let mut recorder = Recorder::new(scene, params, trajectory);
+    let (settled, last) = simulate_with(scene, params, Some(&mut recorder))?;
+    Ok((settled, recorder.finish(last)))
+}
+
+fn simulate(
+    scene: &Scene,
+    params: &SettleParams,
+    recorder: Option<&mut Recorder>,
+) -> Result<Settled, PhysicsError> {
+    simulate_with(scene, params, recorder).map(|(settled, _)| settled)
+}
+
+/// The simulation behind [`settle`] and [`settle_recorded`]; also returns the last poses.
+fn simulate_with(
+    scene: &Scene,
+    params: &SettleParams,
+    mut recorder: Option<&mut Recorder>,
+) -> Result<(Settled, Vec<(DVec3, DQuat)>), PhysicsError> {
     check_params(params)?;
     let layers = drop_layers(scene);
     let stack_layers = layers.iter().max().map_or(0, |&l| l + 1);
@@ -169,9 +206,15 @@ pub fn settle(scene: &Scene, params: &SettleParams) -> Result<Settled, PhysicsEr
     let hold_steps = (params.rest_hold_s / params.dt_s).ceil().max(1.0) as u32;
     let (mut steps, mut calm_steps) = (0, 0);
     let mut at_rest = world.bodies.is_empty();
+    if let Some(r) = recorder.as_deref_mut() {
+        r.start(params.dt_s, world.block_poses_mm());
+    }
     while !at_rest && steps < max_steps {
         world.world.step();
         steps += 1;
+        if let Some(r) = recorder.as_deref_mut() {
+            r.observe(steps, world.block_poses_mm());
+        }
         calm_steps = if world.all_calm(params) {
             calm_steps + 1
         } else {
@@ -183,7 +226,7 @@ pub fn settle(scene: &Scene, params: &SettleParams) -> Result<Settled, PhysicsEr
     let mut report = SettleReport::measure(scene, &poses, steps, at_rest, params);
     report.stiffenings = stiffenings;
     let scene = settled_scene(scene, &poses, &report);
-    Ok(Settled { scene, report })
+    Ok((Settled { scene, report }, poses))
 }
 
 /// Most halvings of the step [`stiffened_for_layers`] makes (1/3840 s at the default step).
@@ -415,19 +458,32 @@ fn drop_layers(scene: &Scene) -> Vec<usize> {
         .collect()
 }
 
-/// Lowest world y of a block, mm.
 /// The scene to write: intended poses when stable (snapped back), simulated poses otherwise;
 /// both with `rotation` quaternions and `meta.settle`.
 fn settled_scene(scene: &Scene, poses: &[(DVec3, DQuat)], report: &SettleReport) -> Scene {
+    if report.stable {
+        return at_intended_poses(scene, report);
+    }
     let mut out = scene.clone();
     for (block, (center_mm, q)) in out.blocks.iter_mut().zip(poses) {
-        if report.stable {
-            block.orientation = Orientation::Quaternion(block.rotation());
-        } else {
-            block.center_mm = *center_mm;
-            block.orientation = Orientation::Quaternion(*q);
-        }
+        block.center_mm = *center_mm;
+        block.orientation = Orientation::Quaternion(*q);
     }
+    with_settle_meta(out, report)
+}
+
+/// The scene at its intended poses, as `rotation` quaternions, with `meta.settle` from
+/// `report`: what [`settle`] writes for a stable scene, and what a stability dataset writes
+/// for every scene, standing or not (docs/stability.md "Files").
+pub fn at_intended_poses(scene: &Scene, report: &SettleReport) -> Scene {
+    let mut out = scene.clone();
+    for block in &mut out.blocks {
+        block.orientation = Orientation::Quaternion(block.rotation());
+    }
+    with_settle_meta(out, report)
+}
+
+fn with_settle_meta(mut out: Scene, report: &SettleReport) -> Scene {
     let mut meta = out.meta.take().unwrap_or_default();
     meta.insert("settle".to_string(), report.to_meta());
     out.meta = Some(meta);
