@@ -15,6 +15,7 @@
 //! "Conventions"), so the only conversion is mm -> m (x 0.001). Everything here is pure: the
 //! functions return bytes and `cli` writes them.
 
+mod animation;
 pub mod bop;
 pub mod coco;
 pub mod masks;
@@ -24,6 +25,7 @@ mod overlay;
 mod thesis;
 pub mod wireframe;
 
+pub use animation::{scene_fall_to_glb, scene_fall_to_gltf};
 pub use overlay::{reconstruction_with_truth_to_glb, reconstruction_with_truth_to_gltf};
 
 pub use thesis::{
@@ -71,6 +73,16 @@ pub enum ExportError {
     /// The glTF JSON could not be serialized.
     #[error("serializing the glTF JSON: {0}")]
     Json(#[from] json::Error),
+    /// Animation keyframes that do not fit the scene.
+    #[error(
+        "scene {scene:?}: the fall animation {reason}; record the trajectory of this scene again"
+    )]
+    BadAnimation {
+        /// The scene's name.
+        scene: String,
+        /// What is wrong with the keyframes.
+        reason: String,
+    },
     /// The binary container could not be built (e.g. over 4 GiB).
     #[error("building the GLB container: {0}")]
     Glb(#[from] gltf::Error),
@@ -180,11 +192,11 @@ impl DocumentBuilder {
         })
     }
 
-    /// Appends `bytes` to the buffer as one view for `target`.
+    /// Appends `bytes` to the buffer as one view for `target` (none for animation data).
     fn push_view(
         &mut self,
         bytes: &[u8],
-        target: json::buffer::Target,
+        target: Option<json::buffer::Target>,
     ) -> json::Index<json::buffer::View> {
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
@@ -197,26 +209,23 @@ impl DocumentBuilder {
             byte_offset: Some(USize64::from(offset)),
             byte_stride: None,
             name: None,
-            target: Some(Valid(target)),
+            target: target.map(Valid),
             extensions: Default::default(),
             extras: Default::default(),
         })
     }
 
-    /// Appends a tightly packed accessor over a new view.
+    /// Appends a tightly packed accessor over a new view; `bounds` are its JSON `min` and `max`.
     fn push_accessor(
         &mut self,
         bytes: &[u8],
         count: usize,
         layout: (json::accessor::ComponentType, json::accessor::Type),
-        target: json::buffer::Target,
-        bounds: Option<([f32; 3], [f32; 3])>,
+        target: Option<json::buffer::Target>,
+        bounds: Option<(json::Value, json::Value)>,
     ) -> json::Index<json::Accessor> {
         let view = self.push_view(bytes, target);
-        let (min, max) = match bounds {
-            Some((lo, hi)) => (Some(json_array(lo)), Some(json_array(hi))),
-            None => (None, None),
-        };
+        let (min, max) = bounds.unzip();
         self.root.push(json::Accessor {
             buffer_view: Some(view),
             byte_offset: None,
@@ -248,14 +257,14 @@ impl DocumentBuilder {
             &vec3_bytes(&m.positions_m),
             m.positions_m.len(),
             vec3,
-            Target::ArrayBuffer,
-            Some(m.bounds_m()),
+            Some(Target::ArrayBuffer),
+            Some((json_array(m.bounds_m().0), json_array(m.bounds_m().1))),
         );
         let normals = self.push_accessor(
             &vec3_bytes(&m.normals),
             m.normals.len(),
             vec3,
-            Target::ArrayBuffer,
+            Some(Target::ArrayBuffer),
             None,
         );
         let index_bytes: Vec<u8> = m.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
@@ -263,7 +272,7 @@ impl DocumentBuilder {
             &index_bytes,
             m.indices.len(),
             (ComponentType::U32, Type::Scalar),
-            Target::ElementArrayBuffer,
+            Some(Target::ElementArrayBuffer),
             None,
         );
         let attributes = BTreeMap::from([
