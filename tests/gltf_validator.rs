@@ -179,3 +179,59 @@ fn generate_gltf_writes_a_valid_glb_per_scene_listed_in_the_manifest() {
         assert_eq!((*errors, *warnings), (0, 0), "{line}");
     }
 }
+
+/// `generate --keep-unstable --trajectory --gltf` writes each scene's fall as an animation the
+/// validator passes with no errors and no warnings; an animation whose output holds one
+/// keyframe fewer than its input fails it.
+#[test]
+fn fall_animations_validate_and_a_mismatched_one_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    let out_s = out.to_str().unwrap();
+    common::ok(common::blockworld([
+        "generate",
+        "--count",
+        "6",
+        "--seed",
+        "3",
+        "--views",
+        "",
+        "--keep-unstable",
+        "--trajectory",
+        "--gltf",
+        "-o",
+        out_s,
+    ]));
+    let mut files: Vec<PathBuf> = (0..6)
+        .map(|i| out.join(format!("s{i:06}/fall.glb")))
+        .collect();
+    let scene = read_scene(&files[0].with_file_name("scene.json")).unwrap();
+    let frames: Vec<Vec<_>> = (0..3)
+        .map(|k| {
+            let lift = DVec3::Y * k as f64;
+            scene
+                .blocks
+                .iter()
+                .map(|b| (b.center_mm + lift, b.rotation()))
+                .collect()
+        })
+        .collect();
+    let mut broken =
+        blockworld::export::scene_fall_to_gltf(&scene, &[0.0, 0.1, 0.2], &frames).unwrap();
+    let output = broken.root.animations[0].samplers[0].output.value();
+    broken.root.accessors[output].count = gltf::json::validation::USize64(2);
+    files.push(write(
+        tmp.path(),
+        "mismatched.glb",
+        &broken.to_glb().unwrap(),
+    ));
+    let Some(reports) = validate(&files) else {
+        return;
+    };
+    let (last, good) = reports.split_last().unwrap();
+    for (errors, warnings, line) in good {
+        assert_eq!((*errors, *warnings), (0, 0), "{line}");
+    }
+    assert!(last.0 > 0, "expected an error: {}", last.2);
+    assert!(last.2.contains("ANIMATION_SAMPLER"), "{}", last.2);
+}

@@ -2,8 +2,12 @@
 //! (docs/datasets.md "Settling": "Unstable draws are rejected and redrawn, counted in the log"). Pure: no I/O.
 
 use super::families::{family_scene, Family};
+use super::perturb::perturb;
 use super::DatasetError;
-use crate::physics::{settle, SettleParams, SettleReport};
+use crate::physics::{
+    at_intended_poses, label_stability, settle, settle_recorded, SettleParams, SettleReport,
+    Trajectory,
+};
 use crate::scene::Scene;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -58,20 +62,25 @@ impl SceneSpec {
     }
 }
 
-/// A settled, stable scene and what it took to get it.
+/// A settled scene and what it took to get it.
 #[derive(Debug, Clone)]
 pub struct DrawnScene {
     /// The settled truth: intended poses as quaternions; `meta` holds family, index, seed,
-    /// attempts and the settle report.
+    /// attempts and the settle report (and, in a stability dataset, `perturbation` and
+    /// `stability`).
     pub scene: Scene,
     /// The settle report of the accepted draw.
     pub report: SettleReport,
     /// Draws made, including the accepted one.
     pub attempts: u32,
-    /// Draws rejected because they did not settle stably.
+    /// Draws rejected because they did not settle stably when a stable scene was wanted.
     pub unstable: u32,
-    /// Draws rejected before settling (could not be placed, or failed validation).
+    /// Draws rejected because they stood when an unstable scene was wanted.
+    pub stood: u32,
+    /// Draws rejected before settling (could not be placed or perturbed, or failed validation).
     pub unplaceable: u32,
+    /// The accepted draw's trajectory, when the stability options ask for one.
+    pub trajectory: Option<Trajectory>,
 }
 
 /// Draws scene `spec` until a draw settles stably (at most [`MAX_ATTEMPTS`]).
@@ -79,51 +88,136 @@ pub fn draw_stable_scene(
     spec: &SceneSpec,
     params: &SettleParams,
 ) -> Result<DrawnScene, DatasetError> {
+    draw_scene(spec, params, None)
+}
+
+/// Draws scene `spec` until a draw settles as wanted (at most [`MAX_ATTEMPTS`]): stably without
+/// `stability`; else stably or not as [`wants_stable`] decides for its seed, an unstable draw
+/// perturbed first (`perturb`), the accepted one labelled in `meta.stability`.
+pub fn draw_scene(
+    spec: &SceneSpec,
+    params: &SettleParams,
+    stability: Option<&StabilityOptions>,
+) -> Result<DrawnScene, DatasetError> {
     let id = spec.id();
+    let want_stable = stability.is_none_or(|o| wants_stable(spec.seed, o.stable_fraction));
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
-    let (mut unstable, mut unplaceable) = (0, 0);
+    let mut drawn = DrawnScene {
+        scene: Scene::new(id.clone(), Vec::new()),
+        report: SettleReport::measure(&Scene::new("", Vec::new()), &[], 0, true, params),
+        attempts: 0,
+        unstable: 0,
+        stood: 0,
+        unplaceable: 0,
+        trajectory: None,
+    };
     for attempt in 1..=MAX_ATTEMPTS {
-        let Some(blocks) = spec.family.draw(&mut rng) else {
-            unplaceable += 1;
+        drawn.attempts = attempt;
+        let Some(scene) = draw_once(spec, &mut rng, want_stable, attempt) else {
+            drawn.unplaceable += 1;
             continue;
         };
-        let mut scene = family_scene(spec.family, &id, blocks);
-        if scene.validate(&id).is_err() {
-            unplaceable += 1;
-            continue;
-        }
-        let mut meta = serde_json::Map::new();
-        meta.insert("family".into(), json!(spec.family.name()));
-        meta.insert("index".into(), json!(spec.index));
-        meta.insert("seed".into(), json!(spec.seed));
-        meta.insert("attempts".into(), json!(attempt));
-        scene.meta = Some(meta);
-        let settled = settle(&scene, params).map_err(|source| DatasetError::Physics {
+        let physics_err = |source| DatasetError::Physics {
             id: id.clone(),
             source,
-        })?;
-        if !settled.report.stable {
-            tracing::debug!(
-                "{id}: draw {attempt} of {} is unstable, redrawing:\n{}",
-                spec.family.name(),
-                settled.report.describe_moved(&scene, params)
-            );
-            unstable += 1;
+        };
+        let Some(o) = stability else {
+            let settled = settle(&scene, params).map_err(physics_err)?;
+            if !settled.report.stable {
+                tracing::debug!(
+                    "{id}: draw {attempt} of {} is unstable, redrawing:\n{}",
+                    spec.family.name(),
+                    settled.report.describe_moved(&scene, params)
+                );
+                drawn.unstable += 1;
+                continue;
+            }
+            (drawn.scene, drawn.report) = (settled.scene, settled.report);
+            return Ok(drawn);
+        };
+        let (settled, motion) =
+            settle_recorded(&scene, params, o.trajectory).map_err(physics_err)?;
+        if settled.report.stable != want_stable {
+            *(if want_stable {
+                &mut drawn.unstable
+            } else {
+                &mut drawn.stood
+            }) += 1;
             continue;
         }
-        return Ok(DrawnScene {
-            scene: settled.scene,
-            report: settled.report,
-            attempts: attempt,
-            unstable,
-            unplaceable,
-        });
+        let label =
+            label_stability(&scene, &settled.report, &motion, params).map_err(physics_err)?;
+        drawn.scene = at_intended_poses(&scene, &settled.report);
+        let meta = drawn.scene.meta.get_or_insert_with(Default::default);
+        meta.insert("stability".into(), label.to_meta());
+        drawn.report = settled.report;
+        drawn.trajectory = motion.trajectory;
+        return Ok(drawn);
     }
     Err(DatasetError::GaveUp {
         id,
         family: spec.family.name(),
         attempts: MAX_ATTEMPTS,
     })
+}
+
+/// One draw of `spec`'s family, perturbed unless `want_stable`, validated and with its `meta`;
+/// `None` when it could not be placed, perturbed or validated.
+fn draw_once(
+    spec: &SceneSpec,
+    rng: &mut ChaCha8Rng,
+    want_stable: bool,
+    attempt: u32,
+) -> Option<Scene> {
+    let id = spec.id();
+    let mut blocks = spec.family.draw(rng)?;
+    let perturbation = if want_stable {
+        None
+    } else {
+        Some(perturb(&mut blocks, rng)?)
+    };
+    let mut scene = family_scene(spec.family, &id, blocks);
+    scene.validate(&id).ok()?;
+    let mut meta = serde_json::Map::new();
+    meta.insert("family".into(), json!(spec.family.name()));
+    meta.insert("index".into(), json!(spec.index));
+    meta.insert("seed".into(), json!(spec.seed));
+    meta.insert("attempts".into(), json!(attempt));
+    if let Some(p) = perturbation {
+        meta.insert("perturbation".into(), p.to_meta());
+    }
+    scene.meta = Some(meta);
+    Some(scene)
+}
+
+/// What a stability dataset keeps (docs/stability.md).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct StabilityOptions {
+    /// Share of scenes drawn to stand, 0 to 1; default 0.5 (`--stable-fraction`).
+    pub stable_fraction: f64,
+    /// Record every block's pose at 30 Hz (`--trajectory`, `trajectory.bin`).
+    pub trajectory: bool,
+    /// Write the fall as an animated glTF, `fall.glb` (`--trajectory` with `--gltf`).
+    pub fall_gltf: bool,
+}
+
+impl Default for StabilityOptions {
+    fn default() -> Self {
+        StabilityOptions {
+            stable_fraction: 0.5,
+            trajectory: false,
+            fall_gltf: false,
+        }
+    }
+}
+
+/// Whether the scene of seed `seed` is drawn to stand: `splitmix64(seed ^ STABLE_SALT)`
+/// scaled to [0, 1) is below `stable_fraction`. Depends on the seed alone, so the classes come
+/// out the same whatever `--jobs` or the shard, and independent of the family's draws.
+pub fn wants_stable(seed: u64, stable_fraction: f64) -> bool {
+    const STABLE_SALT: u64 = 0x5354_4142_4c45_2121;
+    let unit = (splitmix64(seed ^ STABLE_SALT) >> 11) as f64 / (1u64 << 53) as f64;
+    unit < stable_fraction
 }
 
 #[cfg(test)]

@@ -32,6 +32,9 @@ pub struct ManifestEntry {
     pub reason: Option<String>,
     /// Draws it took (1 = the first draw was stable).
     pub attempts: u32,
+    /// Stability datasets only: whether the scene stands (its `meta.stability.stable`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stable: Option<bool>,
     /// File name in the scene folder -> lower-case hex sha256.
     pub files: BTreeMap<String, String>,
 }
@@ -101,6 +104,7 @@ mod tests {
             supported: true,
             reason: None,
             attempts: 1,
+            stable: None,
             files: BTreeMap::from([("scene.json".to_string(), sha256_hex(b"x"))]),
         };
         let text = e.to_line();

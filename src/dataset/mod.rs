@@ -16,6 +16,7 @@ mod generate;
 mod lock;
 mod manifest;
 mod memory;
+mod perturb;
 mod placement;
 mod shard;
 mod vision_export;
@@ -24,13 +25,18 @@ mod writer;
 
 pub use error::DatasetError;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
-pub use generate::{draw_stable_scene, scene_id, scene_seed, DrawnScene, SceneSpec, MAX_ATTEMPTS};
+pub use generate::{
+    draw_scene, draw_stable_scene, scene_id, scene_seed, wants_stable, DrawnScene, SceneSpec,
+    StabilityOptions, MAX_ATTEMPTS,
+};
 pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
 pub use memory::keep_freed_pictures_in_heap;
+pub use perturb::{perturb, Perturbation};
 pub use shard::{Shard, ShardError};
 pub use vision_export::{export_vision, VisionExportSummary, VisionFormat};
 pub use wireframe::{export_wireframes, WireframeExportOptions, WireframeExportSummary};
 pub use writer::{
     generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,
-    MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE,
+    MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE, FALL_FILE,
+    TRAJECTORY_FILE,
 };

@@ -7,7 +7,7 @@
 //! re-running the same command after a kill or a full disk redoes exactly the scenes that are
 //! missing or damaged.
 
-use super::generate::{draw_stable_scene, SceneSpec};
+use super::generate::{draw_scene, DrawnScene, SceneSpec, StabilityOptions};
 use super::manifest::{
     manifest_text, parse_manifest, parse_shard_manifest_name, sha256_hex, shard_manifest_name,
     ManifestEntry, MANIFEST_NAME,
@@ -61,7 +61,15 @@ pub struct DatasetOptions {
     /// marker and re-hashes every file it lists (docs/datasets.md "Settling", durability);
     /// [`FileSync::EveryFile`] (`--fsync`) syncs every file. Does not change the content.
     pub file_sync: FileSync,
+    /// A stability dataset (`--keep-unstable`, docs/stability.md): scenes that do not stand
+    /// are kept and every scene is labelled; `None` (the default) keeps stable scenes only.
+    pub stability: Option<StabilityOptions>,
 }
+
+/// The recorded trajectory in each scene folder of a stability dataset (`--trajectory`).
+pub const TRAJECTORY_FILE: &str = "trajectory.bin";
+/// The fall as an animated glTF in each scene folder (`--trajectory --gltf`).
+pub const FALL_FILE: &str = "fall.glb";
 
 /// A further per-scene file: its name in the scene folder and the function that encodes the
 /// settled scene into its bytes. The encoder comes from the caller (the CLI passes the glTF
@@ -104,6 +112,10 @@ pub struct GenerateSummary {
     pub unstable_draws: u64,
     /// Draws rejected before settling.
     pub unplaceable_draws: u64,
+    /// Draws rejected because they stood when an unstable scene was wanted (stability datasets).
+    pub stood_draws: u64,
+    /// Scenes of this run's manifest that do not stand (stability datasets).
+    pub unstable_scenes: u64,
     /// Time per stage over the generated scenes.
     pub times: StageTimes,
     /// The manifest written (`manifest.jsonl` or the shard's).
@@ -117,7 +129,7 @@ pub struct GenerateSummary {
 /// Per-scene outcome inside a run.
 struct SceneOutcome {
     entry: ManifestEntry,
-    generated: Option<(StageTimes, u32, u32)>,
+    generated: Option<(StageTimes, u32, u32, u32)>,
 }
 
 pub(super) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> DatasetError + '_ {
@@ -149,6 +161,15 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
     // with or without it is refused as other options.
     if let Some(f) = &opts.scene_file {
         v["scene_files"] = json!([f.name]);
+    }
+    if let Some(st) = &opts.stability {
+        v["stability"] = json!({
+            "stable_fraction": st.stable_fraction,
+            "scene_is_drawn_stable": "splitmix64(scene seed ^ 0x535441424c452121) / 2^64 < stable_fraction",
+            "trajectory": st.trajectory,
+            "trajectory_fps": crate::physics::TRAJECTORY_FPS,
+            "fall_gltf": st.fall_gltf,
+        });
     }
     v
 }
@@ -290,7 +311,7 @@ fn produce_scene(
     }
     let mut times = StageTimes::default();
     let t = Instant::now();
-    let drawn = draw_stable_scene(spec, &opts.settle)?;
+    let drawn = draw_scene(spec, &opts.settle, opts.stability.as_ref())?;
     times.settle_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
@@ -298,7 +319,8 @@ fn produce_scene(
     times.render_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let files = write_scene_files(&scene_dir, spec, opts, &drawn.scene, &views)?;
+    let mut files = write_scene_files(&scene_dir, spec, opts, &drawn.scene, &views)?;
+    files.extend(write_fall_files(&scene_dir, spec, opts, &drawn)?);
     let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {
         supported: true,
         reason: None,
@@ -312,6 +334,7 @@ fn produce_scene(
         supported: expect.supported,
         reason: expect.reason,
         attempts: drawn.attempts,
+        stable: opts.stability.map(|_| drawn.report.stable),
         files,
     };
     // Written last and, by default, not synced: after a power loss a marker that did not reach
@@ -321,8 +344,40 @@ fn produce_scene(
     times.write_s = t.elapsed().as_secs_f64();
     Ok(SceneOutcome {
         entry,
-        generated: Some((times, drawn.unstable, drawn.unplaceable)),
+        generated: Some((times, drawn.unstable, drawn.unplaceable, drawn.stood)),
     })
+}
+
+/// A stability dataset's `trajectory.bin` and `fall.glb` when asked for; each name and sha256.
+fn write_fall_files(
+    scene_dir: &Path,
+    spec: &SceneSpec,
+    opts: &DatasetOptions,
+    drawn: &DrawnScene,
+) -> Result<BTreeMap<String, String>, DatasetError> {
+    let mut files = BTreeMap::new();
+    let (Some(st), Some(t)) = (&opts.stability, &drawn.trajectory) else {
+        return Ok(files);
+    };
+    let mut write = |name: &str, bytes: &[u8]| -> Result<(), DatasetError> {
+        let path = scene_dir.join(name);
+        write_atomic_with(&path, bytes, opts.file_sync).map_err(io_err(&path))?;
+        files.insert(name.to_string(), sha256_hex(bytes));
+        Ok(())
+    };
+    write(TRAJECTORY_FILE, &t.to_bytes())?;
+    if st.fall_gltf {
+        let glb =
+            crate::export::scene_fall_to_glb(&drawn.scene, &t.times_s, &t.frames).map_err(|e| {
+                DatasetError::SceneFile {
+                    id: spec.id(),
+                    name: FALL_FILE.to_string(),
+                    message: e.to_string(),
+                }
+            })?;
+        write(FALL_FILE, &glb)?;
+    }
+    Ok(files)
 }
 
 /// The scene's views through `renderer` with the scene's own seed; none when the dataset
@@ -480,6 +535,8 @@ fn stream_scenes(
         blocks: 0,
         unstable_draws: 0,
         unplaceable_draws: 0,
+        stood_draws: 0,
+        unstable_scenes: 0,
         times: StageTimes::default(),
         manifest: PathBuf::new(),
     };
@@ -521,11 +578,13 @@ impl GenerateSummary {
     fn tally(&mut self, o: &SceneOutcome) {
         self.scenes += 1;
         self.blocks += o.entry.blocks as u64;
+        self.unstable_scenes += u64::from(o.entry.stable == Some(false));
         match o.generated {
-            Some((times, unstable, unplaceable)) => {
+            Some((times, unstable, unplaceable, stood)) => {
                 self.generated += 1;
                 self.unstable_draws += unstable as u64;
                 self.unplaceable_draws += unplaceable as u64;
+                self.stood_draws += stood as u64;
                 self.times.add(&times);
             }
             None => self.resumed += 1,

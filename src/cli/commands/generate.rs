@@ -10,7 +10,7 @@ use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
 use blockworld::dataset::{
     generate_dataset, DatasetError, DatasetOptions, Family, GenerateSummary, SceneFileEncoder,
-    Shard,
+    Shard, StabilityOptions,
 };
 use blockworld::export::scene_to_glb;
 use blockworld::io::FileSync;
@@ -46,6 +46,19 @@ pub struct Args {
     /// Also write each settled scene as binary glTF, `scene.glb`, listed in the manifest.
     #[arg(long)]
     pub gltf: bool,
+    /// Keep the draws that do not stand and label every scene in `meta.stability`: stable,
+    /// the first block to move and when, the cause, the largest displacement
+    /// (docs/stability.md). Unstable draws are made by shifting or tilting a block.
+    #[arg(long)]
+    pub keep_unstable: bool,
+    /// With --keep-unstable: the share of scenes drawn to stand, 0 to 1 (each scene's seed
+    /// decides which).
+    #[arg(long, requires = "keep_unstable", default_value_t = 0.5)]
+    pub stable_fraction: f64,
+    /// With --keep-unstable: record every block's pose at 30 Hz until rest or 4 s,
+    /// `trajectory.bin`; with --gltf also the fall as an animated glTF, `fall.glb`.
+    #[arg(long, requires = "keep_unstable")]
+    pub trajectory: bool,
     /// Force every file to disk before it is renamed into place (default: none but the
     /// manifest; a resume re-hashes every file, which finds what a power loss damaged).
     #[arg(long)]
@@ -127,8 +140,27 @@ pub fn dataset_options(args: &Args) -> anyhow::Result<DatasetOptions> {
         } else {
             FileSync::Verified
         },
+        stability: stability_options(args)?,
         ..opts
     })
+}
+
+/// The stability options of `--keep-unstable`, `--stable-fraction` and `--trajectory`.
+fn stability_options(args: &Args) -> anyhow::Result<Option<StabilityOptions>> {
+    if !args.keep_unstable {
+        return Ok(None);
+    }
+    let f = args.stable_fraction;
+    if !(0.0..=1.0).contains(&f) {
+        bail!(
+            "--stable-fraction {f}: give a share from 0 to 1 (0.5 draws half the scenes to stand)"
+        );
+    }
+    Ok(Some(StabilityOptions {
+        stable_fraction: f,
+        trajectory: args.trajectory,
+        fall_gltf: args.trajectory && args.gltf,
+    }))
 }
 
 /// The settled scene as binary glTF (`generate --gltf`), for the dataset's `scene.glb`.
@@ -156,6 +188,7 @@ pub fn checked_options(
         jobs,
         scene_file: None,
         file_sync: FileSync::Verified,
+        stability: None,
     })
 }
 
@@ -257,5 +290,14 @@ fn report(s: &GenerateSummary, opts: &DatasetOptions, secs: f64) -> anyhow::Resu
         secs,
         s.generated as f64 / secs.max(1e-9),
         s.manifest.display()
-    )
+    )?;
+    if opts.stability.is_some() {
+        outln!(
+            "stability: {} of {} scenes do not stand; redrew {} perturbed draws that stood",
+            s.unstable_scenes,
+            s.scenes,
+            s.stood_draws
+        )?;
+    }
+    Ok(())
 }
