@@ -219,3 +219,97 @@ fn label_ignores_other_fields_and_recognize_names_a_missing_folder() {
         "{err}"
     );
 }
+
+/// The single cube's exact NE drawing (tests/fixtures/vision/single_cube) tiled `n` x `n` in
+/// the picture, written to `dir` with the NE camera. `aligned`: each step is two cube edges
+/// along the floor's axes, so the tiles are cubes on the floor with gaps between them; else
+/// steps of 400 px across and 450 px up, which put the tiles at heights no one floor plan
+/// explains.
+fn tiled_cubes(dir: &Path, n: usize, aligned: bool) {
+    let cube = common::root().join("tests/fixtures/vision/single_cube");
+    std::fs::copy(cube.join("camera_ne.json"), dir.join("camera_ne.json")).unwrap();
+    let text = std::fs::read_to_string(cube.join("lines_ne.json")).unwrap();
+    let d: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let p: Vec<[f64; 2]> = serde_json::from_value(d["points"].clone()).unwrap();
+    let lines: Vec<[usize; 2]> = serde_json::from_value(d["lines"].clone()).unwrap();
+    // Points 5 -> 6 and 5 -> 1 are the cube's bottom edges along the floor's two axes.
+    let edge = |to: usize| [p[to][0] - p[5][0], p[to][1] - p[5][1]];
+    let (ex, ez) = (edge(6), edge(1));
+    let (mut points, mut all_lines) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        for j in 0..n {
+            let (i, j) = (i as f64, j as f64);
+            let step = if aligned {
+                [2.0 * (i * ex[0] + j * ez[0]), 2.0 * (i * ex[1] + j * ez[1])]
+            } else {
+                [400.0 * i, 450.0 * j]
+            };
+            let base = points.len();
+            points.extend(p.iter().map(|q| [q[0] + step[0], q[1] + step[1]]));
+            all_lines.extend(lines.iter().map(|l| [l[0] + base, l[1] + base]));
+        }
+    }
+    let drawing = serde_json::json!({ "points": points, "lines": all_lines });
+    std::fs::write(dir.join("lines_ne.json"), drawing.to_string()).unwrap();
+}
+
+/// Runs the binary with `args`, killing it after `limit_s` seconds; the output, and whether
+/// it ended by itself in time.
+fn blockworld_within(args: &[&str], limit_s: u64) -> (std::process::Output, bool) {
+    use std::process::Stdio;
+    let mut child = common::command()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let mut in_time = true;
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() >= limit_s {
+            child.kill().unwrap();
+            in_time = false;
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    (child.wait_with_output().unwrap(), in_time)
+}
+
+/// Regression: `recognize --from-truth` of a 20 x 20 tiling of separate cubes (3,600 lines)
+/// searched for minutes without a word (10 x 10 at mismatched heights over 300 s); the search
+/// now spends at most its node budget, shows its progress on stderr, and declines naming the
+/// budget. The aligned 10 x 10 tiling, which the direct path answers, is still 100 cubes.
+#[test]
+fn recognize_of_a_large_tiling_declines_within_its_search_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let (tiles, out) = (dir.path().join("tiles"), dir.path().join("r.json"));
+    std::fs::create_dir(&tiles).unwrap();
+    let (d, o) = (tiles.to_string_lossy(), out.to_string_lossy());
+    let args = ["recognize", &d, "--from-truth", "--views", "ne", "-o", &o];
+    tiled_cubes(&tiles, 20, false);
+    let (run, in_time) = blockworld_within(&args, 240);
+    let (stdout, stderr) = (common::ok(&run), common::stderr(&run));
+    assert!(in_time, "still searching after 240 s: {stderr}");
+    assert!(
+        stdout.contains("(unsupported: search budget of 5000000 nodes / 120 s spent: "),
+        "{stdout}"
+    );
+    assert!(stderr.contains("recognize: search, "), "{stderr}");
+    let recon = std::fs::read_to_string(&out).unwrap();
+    assert!(recon.contains("\"unsupported\""), "{recon}");
+
+    tiled_cubes(&tiles, 10, false);
+    let small = [&args[..], &["--node-budget", "1000"]].concat();
+    let stdout = common::ok(blockworld(&small));
+    assert!(
+        stdout.contains("0 blocks in 0 layers")
+            && stdout.contains("search budget of 1000 nodes / 120 s spent: the node budget ran out after 990 nodes"),
+        "{stdout}"
+    );
+
+    tiled_cubes(&tiles, 10, true);
+    let stdout = common::ok(blockworld(args));
+    assert!(stdout.contains(": 100 blocks in 1 layers ->"), "{stdout}");
+    assert!(!stdout.contains("unsupported"), "{stdout}");
+}

@@ -36,7 +36,20 @@ pub struct RecognizeOptions {
     pub max_blocks: usize,
     /// Repair rounds of the search when views stay unexplained; default 4.
     pub repair_rounds: usize,
+    /// Most nodes (candidates weighed) the search spends before declining; default
+    /// [`DEFAULT_NODE_BUDGET`] (docs/limits.md "Recognizer").
+    pub node_budget: u64,
+    /// Most seconds the search spends before declining; default [`DEFAULT_TIME_BUDGET_S`].
+    pub time_budget_s: f64,
 }
+
+/// The search's default node budget: the hardest scene of the suites and the accuracy gate
+/// needs 2,953,551 nodes (docs/limits.md "Recognizer").
+pub const DEFAULT_NODE_BUDGET: u64 = 5_000_000;
+
+/// The search's default time budget, s: far above what the node budget takes on the test
+/// machine, so the node budget, which does not depend on the machine, decides.
+pub const DEFAULT_TIME_BUDGET_S: f64 = 120.0;
 
 impl Default for RecognizeOptions {
     fn default() -> Self {
@@ -49,6 +62,8 @@ impl Default for RecognizeOptions {
             max_redraws_per_step: 64,
             max_blocks: 40,
             repair_rounds: 4,
+            node_budget: DEFAULT_NODE_BUDGET,
+            time_budget_s: DEFAULT_TIME_BUDGET_S,
         }
     }
 }
@@ -104,6 +119,16 @@ pub enum Decline {
     HiddenSupport {
         /// Index of the floating block in the hypothesis.
         block: usize,
+    },
+    /// The search spent its node or time budget (docs/limits.md "Recognizer").
+    #[error("search budget of {node_budget} nodes / {time_budget_s} s spent: {detail}; recognize fewer blocks at a time, or raise the budget (docs/limits.md \"Recognizer\")")]
+    SearchBudget {
+        /// The node budget.
+        node_budget: u64,
+        /// The time budget, s.
+        time_budget_s: f64,
+        /// Which ran out, after how much.
+        detail: String,
     },
     /// The best hypothesis does not explain a view.
     #[error("view {view} not explained by catalog blocks: {} observed points and {} lines unexplained, {} points and {} lines drawn in excess (shapes outside the catalog or occlusion the views cannot resolve)", .check.unexplained_points, .check.unexplained_lines, .check.extra_points, .check.extra_lines)]

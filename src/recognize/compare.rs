@@ -13,9 +13,10 @@
 //! one at a time, each time the candidate whose redrawn views (step 6, [`super::verify`])
 //! explain the most of the observed drawings, until nothing improves.
 
+use super::budget::SearchBudget;
 use super::catalog_match::{blocks_overlap, distinct_yaws_deg, make_touching_flush, Proposal};
 use super::verify::{compare_drawings, draw_hypothesis, ViewCheck};
-use super::ObservedView;
+use super::{ObservedView, RecognizeOptions};
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3};
 use crate::scene::{basic_blocks, Block, Orientation};
@@ -262,8 +263,8 @@ fn redraw_order(mut ranked: Vec<(usize, (usize, usize))>) -> Vec<usize> {
 }
 
 /// Search limits of [`choose_blocks`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SearchLimits {
+#[derive(Debug, Clone, Copy)]
+pub struct SearchLimits<'a> {
     /// Picture tolerance of the comparisons, px.
     pub tol_px: f64,
     /// How many best-ranked candidates are redrawn exactly per step; when none of them
@@ -275,6 +276,22 @@ pub struct SearchLimits {
     pub max_blocks: usize,
     /// At most this many repair rounds (each forbids one more chosen block).
     pub repair_rounds: usize,
+    /// The nodes and time the search may spend; once spent, it stops.
+    pub budget: &'a SearchBudget<'a>,
+}
+
+impl<'a> SearchLimits<'a> {
+    /// The limits `opts` sets, spending `budget`.
+    pub fn new(opts: &RecognizeOptions, budget: &'a SearchBudget<'a>) -> SearchLimits<'a> {
+        SearchLimits {
+            tol_px: opts.tol_px,
+            shortlist: opts.shortlist,
+            max_redraws_per_step: opts.max_redraws_per_step,
+            max_blocks: opts.max_blocks,
+            repair_rounds: opts.repair_rounds,
+            budget,
+        }
+    }
 }
 
 /// One greedy pass from `start`: adds, one at a time, the shortlisted candidate whose redrawn views
@@ -289,6 +306,7 @@ fn greedy(
 ) -> (Vec<usize>, Hypothesis) {
     let mut h = start;
     let mut chosen = Vec::new();
+    let budget = limits.budget;
     while h.mismatch() > 0 && h.blocks.len() < limits.max_blocks {
         let ranked: Vec<(usize, (usize, usize))> = pool
             .iter()
@@ -296,13 +314,14 @@ fn greedy(
             .filter(|(i, c)| {
                 !banned.contains(i) && !h.blocks.iter().any(|b| blocks_overlap(b, &c.block))
             })
+            .take_while(|_| budget.spend())
             .map(|(i, c)| (i, corner_gain(&c.block, views, &h, limits.tol_px)))
             .filter(|&(_, g)| g.1 > 0)
             .collect();
         let order = redraw_order(ranked);
         let mut best: Option<(usize, Hypothesis)> = None;
         for (n, &i) in order.iter().take(limits.max_redraws_per_step).enumerate() {
-            if best.is_some() && n % limits.shortlist.max(1) == 0 {
+            if (best.is_some() && n % limits.shortlist.max(1) == 0) || !budget.spend() {
                 break;
             }
             let mut blocks = h.blocks.clone();
@@ -314,11 +333,11 @@ fn greedy(
             }
         }
         match best {
-            Some((i, b)) => {
+            Some((i, b)) if !budget.spent() => {
                 chosen.push(i);
                 h = b;
             }
-            None => break,
+            _ => break,
         }
     }
     (chosen, h)
@@ -345,14 +364,17 @@ pub(super) fn greedy_and_split_from(
     start: Hypothesis,
 ) -> (Vec<usize>, Hypothesis) {
     let (mut chosen, mut h) = greedy(pool, views, limits, banned, start);
-    while h.mismatch() > 0 {
+    while h.mismatch() > 0 && !limits.budget.spent() {
         let split = (0..h.blocks.len()).find_map(|i| {
-            catalog_splits(&h.blocks[i]).into_iter().find_map(|halves| {
-                let mut blocks = h.blocks.clone();
-                blocks.splice(i..=i, halves);
-                let next = Hypothesis::new(blocks, views, limits.tol_px);
-                (next.mismatch() < h.mismatch()).then_some(next)
-            })
+            let splits = catalog_splits(&h.blocks[i]).into_iter();
+            splits
+                .take_while(|_| limits.budget.spend())
+                .find_map(|halves| {
+                    let mut blocks = h.blocks.clone();
+                    blocks.splice(i..=i, halves);
+                    let next = Hypothesis::new(blocks, views, limits.tol_px);
+                    (next.mismatch() < h.mismatch()).then_some(next)
+                })
         });
         let Some(next) = split else {
             break;
@@ -386,11 +408,11 @@ pub(super) fn choose_hypothesis(
     let mut banned: Vec<usize> = Vec::new();
     let (mut chosen, mut best) = greedy_and_split(pool, views, limits, &banned);
     for _ in 0..limits.repair_rounds {
-        if best.mismatch() == 0 {
+        if best.mismatch() == 0 || limits.budget.spent() {
             break;
         }
         let mut round: Option<(usize, Vec<usize>, Hypothesis)> = None;
-        for &i in &chosen {
+        for &i in chosen.iter().take_while(|_| !limits.budget.spent()) {
             let mut ban = banned.clone();
             ban.push(i);
             let (c, h) = greedy_and_split(pool, views, limits, &ban);

@@ -166,14 +166,15 @@ pub(super) fn propose_and_pool(
 /// the blocks it draws in excess. Failing that, every candidate is pooled and the search
 /// continues from there, then starts from nothing. With the views' `pictures`, a hypothesis
 /// that the drawings alone do not explain is taken when the picture-aware check explains it
-/// ([`picture_check`]), the direct one before the pruned one.
+/// ([`picture_check`]), the direct one before the pruned one. The search stops when it has
+/// spent `limits.budget`, and the answer is then the decline that says so.
 pub(super) fn find_hypothesis(
     views: &[ObservedView],
     opts: &RecognizeOptions,
     (limits, trapezoids): (&SearchLimits, bool),
     pictures: &[ViewPicture],
     evidence: &mut Evidence,
-) -> Hypothesis {
+) -> Result<Hypothesis, Decline> {
     let explained = |h: &Hypothesis| {
         !pictures.is_empty()
             && checks_in_pictures(h, views, pictures, limits.tol_px)
@@ -186,26 +187,27 @@ pub(super) fn find_hypothesis(
     let blocks = direct_hypothesis_within(&exact, views, &silhouettes, limits.tol_px);
     let direct = Hypothesis::new(blocks, views, limits.tol_px);
     if direct.mismatch() == 0 {
-        return direct;
+        return Ok(direct);
     }
     let pruned = without_excess(direct.clone(), views, limits.tol_px);
     if pruned.mismatch() == 0 {
-        return pruned;
+        return Ok(pruned);
     }
     if explained(&direct) {
-        return direct;
+        return Ok(direct);
     }
     if explained(&pruned) {
-        return pruned;
+        return Ok(pruned);
     }
     let pool = propose_and_pool(views, opts, (None, trapezoids), evidence);
+    let within = |h: Hypothesis| limits.budget.decline().map_or(Ok(h), Err);
     let (_, continued) = greedy_and_split_from(&pool, views, limits, &[], pruned);
     if continued.mismatch() == 0 || explained(&continued) {
-        return continued;
+        return within(continued);
     }
     let chosen = choose_hypothesis(&pool, views, limits);
     if chosen.mismatch() == 0 || pictures.is_empty() || explained(&chosen) {
-        return chosen;
+        return within(chosen);
     }
     let repaired = repaired_in_pictures(&chosen, &pool, views, limits, &explained).or_else(|| {
         // The same blocks have the same neighbours: tried once.
@@ -213,7 +215,7 @@ pub(super) fn find_hypothesis(
             .then(|| repaired_in_pictures(&continued, &pool, views, limits, &explained))
             .flatten()
     });
-    repaired.unwrap_or(chosen)
+    within(repaired.unwrap_or(chosen))
 }
 
 /// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check

@@ -24,6 +24,7 @@
 //!    `floating_blocks`).
 
 mod ambiguity;
+mod budget;
 mod catalog_match;
 mod compare;
 mod constraints;
@@ -43,6 +44,8 @@ pub mod steps;
 mod tests;
 
 pub use answer::{Evidence, ObservedView, Recognition, RecognizeError, RecognizeOptions};
+pub use answer::{DEFAULT_NODE_BUDGET, DEFAULT_TIME_BUDGET_S};
+pub use budget::{SearchBudget, SearchProgress};
 pub use catalog_match::{Layer, MatchTolerances};
 pub use verify::{check_hypothesis, draw_hypothesis, ViewCheck};
 
@@ -87,6 +90,18 @@ pub fn recognize_in_pictures(
     pictures: &[&image::GrayImage],
     opts: &RecognizeOptions,
 ) -> Result<Recognition, RecognizeError> {
+    recognize_with_progress(views, pictures, opts, &|_| {})
+}
+
+/// [`recognize_in_pictures`] reporting the search's progress to `progress` (every 1,024
+/// nodes of its budget, `opts.node_budget` nodes and `opts.time_budget_s` seconds; once spent,
+/// the answer declines, docs/limits.md "Recognizer").
+pub fn recognize_with_progress(
+    views: &[ObservedView],
+    pictures: &[&image::GrayImage],
+    opts: &RecognizeOptions,
+    progress: &dyn Fn(SearchProgress),
+) -> Result<Recognition, RecognizeError> {
     if views.is_empty() {
         return Err(RecognizeError::NoViews);
     }
@@ -106,16 +121,15 @@ pub fn recognize_in_pictures(
         Ok(t) => t,
         Err(d) => return Ok(Recognition::declined(d, evidence)),
     };
-    let limits = SearchLimits {
-        tol_px: opts.tol_px,
-        shortlist: opts.shortlist,
-        max_redraws_per_step: opts.max_redraws_per_step,
-        max_blocks: opts.max_blocks,
-        repair_rounds: opts.repair_rounds,
-    };
-    let search = (&limits, trapezoids);
+    let points = views.iter().map(|v| v.drawing.points.len()).sum();
+    let budgets = (opts.node_budget, opts.time_budget_s);
+    let budget = SearchBudget::new(budgets, budget::node_cost(points), progress);
+    let search = (&SearchLimits::new(opts, &budget), trapezoids);
     let h = find_hypothesis(views, opts, search, &pictures, &mut evidence);
-    let h = placed_answer(h, views, &pictures, opts.tol_px);
+    let h = match h {
+        Ok(h) => placed_answer(h, views, &pictures, opts.tol_px),
+        Err(d) => return Ok(Recognition::declined(d, evidence)),
+    };
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
         ev.extra_points = c.extra_points;

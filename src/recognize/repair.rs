@@ -91,6 +91,7 @@ fn neighbours(
     let bar = h.mismatch() + MAX_EXTRA_MISMATCH;
     let mut redrawn: Vec<Hypothesis> = sets
         .into_iter()
+        .take_while(|_| limits.budget.spend())
         .map(|blocks| Hypothesis::new(blocks, views, limits.tol_px))
         .filter(|n| n.mismatch() <= bar)
         .collect();
@@ -245,17 +246,15 @@ pub(super) fn repaired_in_pictures(
 mod tests {
     use super::*;
     use crate::camera::CornerView;
+    use crate::recognize::budget::SearchBudget;
     use crate::recognize::{views_of, RecognizeOptions};
 
-    fn limits() -> SearchLimits {
-        let o = RecognizeOptions::default();
-        SearchLimits {
-            tol_px: o.tol_px,
-            shortlist: o.shortlist,
-            max_redraws_per_step: o.max_redraws_per_step,
-            max_blocks: o.max_blocks,
-            repair_rounds: o.repair_rounds,
-        }
+    fn limits<'a>(budget: &'a SearchBudget<'a>) -> SearchLimits<'a> {
+        SearchLimits::new(&RecognizeOptions::default(), budget)
+    }
+
+    fn unlimited() -> SearchBudget<'static> {
+        SearchBudget::new((u64::MAX, f64::INFINITY), 1, &|_| {})
     }
 
     fn pooled(block: Block) -> PooledCandidate {
@@ -280,19 +279,21 @@ mod tests {
             b("b15", 7.5, 22.5, 7.5, 0.0),
         ];
         let views = views_of(&truth, &CornerView::ALL);
-        let h = Hypothesis::new(truth[..2].to_vec(), &views, limits().tol_px);
+        let budget = unlimited();
+        let limits = limits(&budget);
+        let h = Hypothesis::new(truth[..2].to_vec(), &views, limits.tol_px);
         assert!(h.mismatch() > 0);
         // Measured a few tenths of a millimetre off, overlapping the block below by 0.15 mm.
         let off = b("b15", 7.7, 22.35, 7.6, 0.0);
         let far = b("b15", 45.0, 7.5, 45.0, 0.0);
         let pool = [pooled(far), pooled(off)];
         let explained = |n: &Hypothesis| n.mismatch() == 0;
-        let r = repaired_in_pictures(&h, &pool, &views, &limits(), &explained).unwrap();
+        let r = repaired_in_pictures(&h, &pool, &views, &limits, &explained).unwrap();
         assert_eq!(r.blocks.len(), 3);
         assert!(r.blocks[2].center_mm.distance(truth[2].center_mm) < 1e-9);
         // A check that explains nothing takes no neighbour.
         let nothing = |_: &Hypothesis| false;
-        assert!(repaired_in_pictures(&h, &pool, &views, &limits(), &nothing).is_none());
+        assert!(repaired_in_pictures(&h, &pool, &views, &limits, &nothing).is_none());
     }
 
     #[test]

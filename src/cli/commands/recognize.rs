@@ -10,8 +10,11 @@ use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
-use blockworld::pipeline::recognize_standing;
-use blockworld::recognize::{ObservedView, RecognizeOptions};
+use blockworld::physics::SettleParams;
+use blockworld::pipeline::check_answer_stands;
+use blockworld::recognize::{
+    recognize_with_progress, ObservedView, RecognizeOptions, SearchProgress,
+};
 use blockworld::scene::reconstruction_to_json;
 use blockworld::vision::{detect_line_drawing_with_progress, VisionOptions, VISION_STEPS};
 use std::path::{Path, PathBuf};
@@ -36,6 +39,29 @@ pub struct Args {
     /// view with the answer's drawing over the picture.
     #[arg(long, value_name = "D")]
     pub debug_dir: Option<PathBuf>,
+    /// Stop the search for blocks after this many nodes (candidates weighed) and answer
+    /// `unsupported`, naming the budget; the suites' scenes need far fewer.
+    #[arg(long, default_value_t = RecognizeOptions::default().node_budget)]
+    pub node_budget: u64,
+    /// Stop the search for blocks after this many seconds and answer `unsupported`, naming
+    /// the budget (the node budget, the same on every machine, usually ends it first).
+    #[arg(long, default_value_t = RecognizeOptions::default().time_budget_s)]
+    pub time_budget_s: f64,
+}
+
+/// The search's progress on stderr, at most once a second once it has run for one: a search
+/// that takes seconds shows it is alive and how much of its budget it has spent.
+fn search_progress() -> impl Fn(SearchProgress) {
+    let last = std::cell::Cell::new(std::time::Instant::now());
+    move |p: SearchProgress| {
+        if last.get().elapsed().as_secs_f64() >= 1.0 {
+            eprintln!(
+                "recognize: search, {} of {} nodes, {:.1} of {} s",
+                p.nodes, p.node_budget, p.elapsed_s, p.time_budget_s
+            );
+            last.set(std::time::Instant::now());
+        }
+    }
 }
 
 /// Reads one view of `dir`: its camera and its drawing (exact, or from the picture, which is
@@ -115,10 +141,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .into_iter()
         .unzip();
     let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
-    let opts = RecognizeOptions::default();
-    let recognition = recognize_standing(&observed, &pictures, &opts)
-        .with_context(|| format!("recognizing {}", args.dir.display()))?
-        .recognition;
+    let opts = RecognizeOptions {
+        node_budget: args.node_budget,
+        time_budget_s: args.time_budget_s,
+        ..RecognizeOptions::default()
+    };
+    let recognition = recognize_with_progress(&observed, &pictures, &opts, &search_progress())
+        .with_context(|| format!("recognizing {}", args.dir.display()))?;
+    let recognition = check_answer_stands(recognition, &SettleParams::default()).recognition;
     if let Some(debug) = &args.debug_dir {
         super::recognize_debug::write_debug_files(
             &args.dir,
