@@ -12,9 +12,7 @@ use blockworld::geom::{DQuat, DVec2, DVec3, CONTACT_TOL_MM};
 use blockworld::linedraw::{
     visible_line_drawing, visible_line_drawing_with_tolerances, TruthTolerances,
 };
-use blockworld::scene::{
-    basic_blocks, Block, BlockType, ConvexPolyhedron, Orientation, Scene, Shape,
-};
+use blockworld::scene::{basic_blocks, Block, Orientation, Scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
@@ -252,54 +250,22 @@ fn perspective_cube_has_the_orthographic_topology() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// A non-cuboid block: the trapezoid wedge of Chapter VII, made by hand
+// A non-cuboid block: the trapezoid wedge of Chapter VII (the catalog's `w30`)
 // ---------------------------------------------------------------------------------------------
 
-/// Vertex order as the catalog's cuboids (bit 2 = +x, bit 1 = +y, bit 0 = +z), with the two
-/// top +x corners moved to x = 0: the +x face becomes a slope and the +-z faces trapezoids.
-static WEDGE_VERTICES: [[f64; 3]; 8] = [
-    [-15.0, -7.5, -7.5],
-    [-15.0, -7.5, 7.5],
-    [-15.0, 7.5, -7.5],
-    [-15.0, 7.5, 7.5],
-    [15.0, -7.5, -7.5],
-    [15.0, -7.5, 7.5],
-    [0.0, 7.5, -7.5],
-    [0.0, 7.5, 7.5],
-];
-static WEDGE_FACES: [&[u8]; 6] = [
-    &[0, 1, 3, 2],
-    &[4, 6, 7, 5],
-    &[0, 4, 5, 1],
-    &[2, 3, 7, 6],
-    &[0, 2, 6, 4],
-    &[1, 5, 7, 3],
-];
-static WEDGE: BlockType = BlockType {
-    id: "wedge_test",
-    name: "test wedge",
-    shape: Shape::ConvexPolyhedron(ConvexPolyhedron {
-        vertices_mm: &WEDGE_VERTICES,
-        faces: &WEDGE_FACES,
-    }),
-};
-
 fn wedge_at(center: [f64; 3], yaw_deg: f64) -> Block {
-    Block {
-        block_type: &WEDGE,
-        center_mm: DVec3::from_array(center),
-        orientation: Orientation::YawDeg(yaw_deg),
-    }
+    Block::new("w30", DVec3::from_array(center), yaw_deg)
 }
 
 #[test]
-fn hand_made_wedge_is_drawn_like_a_convex_polyhedron() {
-    assert!(WEDGE.cuboid_half_extents_mm().is_none(), "not a cuboid");
+fn wedge_is_drawn_like_a_convex_polyhedron() {
+    let wedge = wedge_at([0.0, 0.0, 0.0], 0.0).block_type;
+    assert!(wedge.cuboid_half_extents_mm().is_none(), "not a cuboid");
     // Outward normals: every vertex behind every face.
-    for f in 0..WEDGE.faces().len() {
-        let n = WEDGE.face_normal(f);
-        let p0 = DVec3::from_array(WEDGE.vertices_mm()[WEDGE.faces()[f][0] as usize]);
-        assert!(WEDGE.vertices().all(|v| n.dot(v - p0) <= 1e-9));
+    for f in 0..wedge.faces().len() {
+        let n = wedge.face_normal(f);
+        let p0 = DVec3::from_array(wedge.vertices_mm()[wedge.faces()[f][0] as usize]);
+        assert!(wedge.vertices().all(|v| n.dot(v - p0) <= 1e-9));
     }
     // NE view: top, slope and the north trapezoid meet in a fork, like a cube.
     let s = Scene::new("wedge", vec![wedge_at([0.0, 7.5, 0.0], 0.0)]);
