@@ -35,19 +35,10 @@ fn rendered_dataset(count: u32, seed: u32, size: Option<&str>) -> Option<(TempDi
     Some((tmp, ds))
 }
 
+/// An export with half the scenes for training.
 fn export(dataset: &Path, format: &str, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
-        "export-dataset",
-        dataset.to_str().unwrap(),
-        "--format",
-        format,
-        "-o",
-        out.to_str().unwrap(),
-        "--split",
-        "0.5",
-    ];
-    args.extend_from_slice(extra);
-    blockworld(&args)
+    let flags: Vec<&str> = ["--split", "0.5"].iter().chain(extra).copied().collect();
+    common::export_dataset(dataset, format, out, &flags)
 }
 
 fn read_json(path: &Path) -> Value {

@@ -66,16 +66,7 @@ fn dataset_with(dir: &Path, projection: &str) {
 }
 
 fn export(dataset: &Path, format: &str, out: &Path, jobs: &str) -> Output {
-    blockworld([
-        "export-dataset",
-        dataset.to_str().unwrap(),
-        "--format",
-        format,
-        "-o",
-        out.to_str().unwrap(),
-        "--jobs",
-        jobs,
-    ])
+    common::export_dataset(dataset, format, out, &["--jobs", jobs])
 }
 
 /// Runs `tests/python/check_exports.py` `kind` on `dataset` and its export `out`.

@@ -10,7 +10,7 @@ pub mod geometry;
 pub mod run;
 
 pub use geometry::{distance_to_segment, exact_views, frame, same_blocks};
-pub use run::{blockworld, command, fails_with_2, ok, stderr};
+pub use run::{blockworld, command, export_dataset, fails_with_2, ok, stderr};
 
 use blockworld::render::{Backend, Renderer};
 use image::{GrayImage, Luma};

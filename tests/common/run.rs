@@ -2,7 +2,7 @@
 //! output that many tests share.
 
 use std::ffi::OsStr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// The binary built for these tests; for scripts that take it in `BLOCKWORLD`.
@@ -41,6 +41,13 @@ where
         .args(args)
         .output()
         .expect("runs the blockworld binary")
+}
+
+/// Runs `blockworld export-dataset DATASET --format FORMAT -o OUT` and then `extra` flags.
+pub fn export_dataset(dataset: &Path, format: &str, out: &Path, extra: &[&str]) -> Output {
+    let (dataset, out) = (dataset.to_str().unwrap(), out.to_str().unwrap());
+    let args = ["export-dataset", dataset, "--format", format, "-o", out];
+    blockworld(args.iter().chain(extra))
 }
 
 /// The inherited `XDG_RUNTIME_DIR` when it is a directory, else a private one under cargo's
