@@ -18,20 +18,22 @@ const TRUTH: &str = r#"{"name": "two_layer", "expect": {"supported": true},
              {"type": "b15", "center": [7.5, 22.5, 0]}]}"#;
 
 /// Runs `blockworld score` of the reconstruction `recon` (scene-file text) against [`TRUTH`]
-/// with `extra` arguments; both files live in `dir`.
-fn score_against_truth(dir: &Path, recon: &str, extra: &[&str]) -> std::process::Output {
-    let truth = write(dir, "truth.json", TRUTH);
-    let recon = write(dir, "recon.json", recon);
-    blockworld(["score", &truth, &recon].iter().chain(extra))
+/// with `extra` arguments, asserts it succeeded and returns what it printed.
+fn scored(recon: &str, extra: &[&str]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.json", TRUTH);
+    let recon = write(dir.path(), "recon.json", recon);
+    common::ok(blockworld(["score", &truth, &recon].iter().chain(extra)))
+}
+
+/// [`scored`] with `--json`, parsed.
+fn scored_json(recon: &str) -> serde_json::Value {
+    serde_json::from_str(&scored(recon, &["--json"])).unwrap()
 }
 
 #[test]
 fn identical_scene_scores_exact_in_json() {
-    let dir = tempfile::tempdir().unwrap();
-    let truth = write(dir.path(), "truth.json", TRUTH);
-    let out = blockworld(["score", &truth, &truth, "--json"]);
-    common::ok(&out);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = scored_json(TRUTH);
     assert_eq!(v["verdict"], "exact");
     assert!((v["iou"].as_f64().unwrap() - 1.0).abs() < 1e-9);
     assert_eq!(v["matched_blocks"], 3);
@@ -40,10 +42,8 @@ fn identical_scene_scores_exact_in_json() {
 
 #[test]
 fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
-    let dir = tempfile::tempdir().unwrap();
     // The base read twice, overlapping itself: same solid, one extra block.
-    let out = score_against_truth(
-        dir.path(),
+    let table = scored(
         r#"{"name": "r", "status": "ok",
   "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
              {"type": "b30", "center": [0.5, 7.5, 0]},
@@ -51,8 +51,6 @@ fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
              {"type": "b15", "center": [7.5, 22.5, 0]}]}"#,
         &[],
     );
-    common::ok(&out);
-    let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("verdict                partial"), "{table}");
     assert!(table.contains("3 of 3 truth, 4 recon"), "{table}");
     assert!(
@@ -68,16 +66,11 @@ fn overlapping_reconstruction_is_read_and_scored_in_a_table() {
 
 #[test]
 fn a_missing_block_lowers_the_detection_recall_in_json() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = score_against_truth(
-        dir.path(),
+    let v = scored_json(
         r#"{"name": "r", "status": "ok",
   "blocks": [{"type": "b30", "center": [0, 7.5, 0]},
              {"type": "b15", "center": [-7.5, 22.5, 0]}]}"#,
-        &["--json"],
     );
-    common::ok(&out);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let d = &v["detection"];
     assert_eq!(
         (d["matched"].as_u64(), d["min_iou"].as_f64()),
@@ -93,14 +86,9 @@ fn a_missing_block_lowers_the_detection_recall_in_json() {
 
 #[test]
 fn unsupported_reconstruction_gives_the_unsupported_verdict() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = score_against_truth(
-        dir.path(),
+    let v = scored_json(
         r#"{"name": "r", "status": "unsupported", "reason": "upper layer larger", "blocks": []}"#,
-        &["--json"],
     );
-    common::ok(&out);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["verdict"], "unsupported");
     assert_eq!(v["reason"], "upper layer larger");
 }
