@@ -129,6 +129,21 @@ pub fn score_reconstruction(truth: &Scene, recon: &Reconstruction) -> Result<Sco
     score_reconstruction_with_options(truth, recon, &ScoreOptions::default())
 }
 
+/// The verdict of a reconstruction with `status`, its block matches counted in `matches` and
+/// its volume IoU `iou` against the truth.
+fn verdict_of(status: ReconStatus, matches: &Detection, iou: f64, opts: &ScoreOptions) -> Verdict {
+    let (nt, nr, nm) = (matches.truth_blocks, matches.recon_blocks, matches.matched);
+    if status == ReconStatus::Unsupported {
+        Verdict::Unsupported
+    } else if nr == 0 && nt > 0 || iou < opts.failed_below_iou {
+        Verdict::Failed
+    } else if nm == nt && nm == nr && iou >= opts.exact_iou {
+        Verdict::Exact
+    } else {
+        Verdict::Partial
+    }
+}
+
 /// Scores `recon` against `truth`. The reconstruction's solid is the union of its blocks
 /// (the thesis's CSG adds blocks together, Figure 4.6); a CSG tree with differences or
 /// intersections is refused rather than scored as something it is not.
@@ -149,24 +164,7 @@ pub fn score_reconstruction_with_options(
         opts.turn_tol_deg,
     );
     let (nt, nr, nm) = (truth.blocks.len(), recon.blocks.len(), matches.len());
-    let ratio = |num: usize, den: usize| {
-        if den == 0 {
-            f64::from(u8::from(num == 0))
-        } else {
-            num as f64 / den as f64
-        }
-    };
-    let precision = if nr == 0 && nt > 0 {
-        0.0
-    } else {
-        ratio(nm, nr)
-    };
-    let recall = ratio(nm, nt);
-    let f1 = if precision + recall > 0.0 {
-        2.0 * precision * recall / (precision + recall)
-    } else {
-        0.0
-    };
+    let rates = Detection::from_counts(0.0, nm, nt, nr);
     let mean_center_error_mm =
         (nm > 0).then(|| matches.iter().map(|m| m.center_error_mm).sum::<f64>() / nm as f64);
     let detection = detect_blocks(
@@ -177,15 +175,7 @@ pub fn score_reconstruction_with_options(
     )?;
     let truth_layers = count_layers(&truth.blocks, opts.layer_tol_mm);
     let recon_layers = count_layers(&recon.blocks, opts.layer_tol_mm);
-    let verdict = if recon.status == ReconStatus::Unsupported {
-        Verdict::Unsupported
-    } else if nr == 0 && nt > 0 || iou < opts.failed_below_iou {
-        Verdict::Failed
-    } else if nm == nt && nm == nr && iou >= opts.exact_iou {
-        Verdict::Exact
-    } else {
-        Verdict::Partial
-    };
+    let verdict = verdict_of(recon.status, &rates, iou, opts);
     Ok(Score {
         iou,
         truth_volume_mm3: overlap.truth_mm3,
@@ -194,9 +184,9 @@ pub fn score_reconstruction_with_options(
         truth_blocks: nt,
         recon_blocks: nr,
         matched_blocks: nm,
-        precision,
-        recall,
-        f1,
+        precision: rates.precision,
+        recall: rates.recall,
+        f1: rates.f1,
         mean_center_error_mm,
         detection,
         truth_layers,
