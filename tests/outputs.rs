@@ -118,7 +118,7 @@ fn a_repeated_view_is_refused() {
         &out,
     ]);
     let err = fails_with_2(&o);
-    assert!(err.contains("ne given twice"), "{err}");
+    assert!(err.contains("ne is given twice"), "{err}");
 }
 
 /// Regression: `recognize` and `vertices` printed their result line on stderr, so

@@ -73,25 +73,33 @@ pub struct ViewArgs {
     pub sensor_vignetting: f64,
 }
 
+/// The corner views named by a `--views` list, in its order: an unknown name or a view named
+/// twice is an error that says so.
+pub fn parse_corner_views<'a>(
+    names: impl IntoIterator<Item = &'a String>,
+) -> anyhow::Result<Vec<CornerView>> {
+    let mut views: Vec<CornerView> = Vec::new();
+    for v in names {
+        let view = CornerView::parse(v)
+            .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))?;
+        if views.contains(&view) {
+            bail!(
+                "--views: {} is given twice; name each view once",
+                view.name()
+            );
+        }
+        views.push(view);
+    }
+    Ok(views)
+}
+
 impl ViewArgs {
     /// The corner views asked for.
     /// A view named twice is an error (it would be rendered and written twice); an empty list
     /// is allowed here (`generate --views ""` writes scene.json only), see
     /// [`ViewArgs::some_corner_views`].
     pub fn corner_views(&self) -> anyhow::Result<Vec<CornerView>> {
-        let mut views: Vec<CornerView> = Vec::new();
-        for v in self.views.iter().filter(|v| !v.trim().is_empty()) {
-            let view = CornerView::parse(v)
-                .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))?;
-            if views.contains(&view) {
-                bail!(
-                    "--views: {} is given twice; name each view once",
-                    view.name()
-                );
-            }
-            views.push(view);
-        }
-        Ok(views)
+        parse_corner_views(self.views.iter().filter(|v| !v.trim().is_empty()))
     }
 
     /// The corner views asked for, at least one (for commands whose only output is views).

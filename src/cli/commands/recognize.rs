@@ -101,23 +101,9 @@ fn read_view(
     Ok((ObservedView { drawing, camera }, Some(gray)))
 }
 
-/// Runs `blockworld recognize`.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let views = args
-        .views
-        .iter()
-        .map(|v| {
-            CornerView::parse(v)
-                .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    if let Some(v) = views
-        .iter()
-        .enumerate()
-        .find_map(|(i, v)| views[..i].contains(v).then_some(v))
-    {
-        anyhow::bail!("--views: {} given twice; name each view once", v.name());
-    }
+/// Refuses a missing input folder, and an output that would overwrite one of the inputs of
+/// `views`.
+fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
     let inputs: Vec<PathBuf> = views
         .iter()
         .flat_map(|v| {
@@ -133,7 +119,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.dir.display()
         );
     }
-    crate::cli::files::check_output(&args.output, &inputs)?;
+    crate::cli::files::check_output(&args.output, &inputs)
+}
+
+/// Runs `blockworld recognize`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let views = crate::cli::view_args::parse_corner_views(&args.views)?;
+    check_paths(&args, &views)?;
     let (observed, pictures): (Vec<ObservedView>, Vec<Option<image::GrayImage>>) = views
         .iter()
         .map(|&v| read_view(&args.dir, v, args.from_truth))
