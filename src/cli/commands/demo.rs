@@ -54,7 +54,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         scene.blocks.len(),
         scene_path.display()
     )?;
-    let settled = settle(&scene, &SettleParams::default())
+    let scene = settled_sample(&scene, &scene_path)?;
+    let renderer = Renderer::new(backend).context("starting the renderer")?;
+    outln!("renderer: {}", renderer.adapter_info())?;
+    let views = renderer
+        .render_views(&scene, &CornerView::ALL, &RenderOptions::default())
+        .with_context(|| format!("rendering {}", scene_path.display()))?;
+    super::render::write_and_list(&args.out, &views)?;
+    for v in &views {
+        outln!("{}", view_summary(v))?;
+    }
+    for v in &views {
+        outln!("{}", vision_summary(v, &args.out)?)?;
+    }
+    let recon = recognize_summary(&scene, &views, &args.out)?;
+    figures_of(&recon, &args.out)?;
+    export_models(&scene, &recon, &args.out, &scene_path)
+}
+
+/// The sample settled with the default parameters, after a line saying how it settled; an
+/// error when it does not rest stably.
+fn settled_sample(scene: &Scene, scene_path: &Path) -> anyhow::Result<Scene> {
+    let settled = settle(scene, &SettleParams::default())
         .with_context(|| format!("settling {}", scene_path.display()))?;
     outln!(
         "settle: {} after {} steps (max drift {:.3} mm, max turn {:.3} deg)",
@@ -73,28 +94,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             scene_path.display(),
             settled
                 .report
-                .describe_moved(&scene, &SettleParams::default())
+                .describe_moved(scene, &SettleParams::default())
         );
     }
-    let scene = settled.scene;
-    let renderer = Renderer::new(backend).context("starting the renderer")?;
-    outln!("renderer: {}", renderer.adapter_info())?;
-    let views = renderer
-        .render_views(&scene, &CornerView::ALL, &RenderOptions::default())
-        .with_context(|| format!("rendering {}", scene_path.display()))?;
-    super::render::write_and_list(&args.out, &views)?;
-    for v in &views {
-        outln!("{}", view_summary(v))?;
-    }
-    for v in &views {
-        outln!("{}", vision_summary(v, &args.out)?)?;
-    }
-    let recon = recognize_summary(&scene, &views, &args.out)?;
-    figures_of(&recon, &args.out)?;
-    let both = args
-        .out
-        .join(format!("{}_truth_and_reconstruction.glb", scene.name));
-    let glb = blockworld::export::reconstruction_with_truth_to_glb(&scene, &recon)
+    Ok(settled.scene)
+}
+
+/// Writes the truth and the reconstruction as one glTF, and the truth alone as another.
+fn export_models(
+    scene: &Scene,
+    recon: &Reconstruction,
+    out: &Path,
+    scene_path: &Path,
+) -> anyhow::Result<()> {
+    let both = out.join(format!("{}_truth_and_reconstruction.glb", scene.name));
+    let glb = blockworld::export::reconstruction_with_truth_to_glb(scene, recon)
         .context("exporting the truth and the reconstruction as one glTF")?;
     blockworld::io::write_atomic(&both, &glb)
         .with_context(|| format!("writing {}", both.display()))?;
@@ -103,8 +117,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         both.display(),
         glb.len()
     )?;
-    let glb_path = args.out.join(format!("{}.glb", scene.name));
-    let glb = blockworld::export::scene_to_glb(&scene)
+    let glb_path = out.join(format!("{}.glb", scene.name));
+    let glb = blockworld::export::scene_to_glb(scene)
         .with_context(|| format!("exporting {} as glTF", scene_path.display()))?;
     blockworld::io::write_atomic(&glb_path, &glb)
         .with_context(|| format!("writing {}", glb_path.display()))?;

@@ -397,6 +397,11 @@ fn print_table(args: &Args, r: &Rounds) -> anyhow::Result<()> {
         VISION_SCENES * 4,
         cv / bw_vis
     )?;
+    print_rounds(args, r)
+}
+
+/// Every round's figures behind the medians of [`print_table`], and each round's ratios.
+fn print_rounds(args: &Args, r: &Rounds) -> anyhow::Result<()> {
     let show = |v: &Vec<f64>| {
         v.iter()
             .map(|x| format!("{x:.2}"))

@@ -12,7 +12,7 @@ use blockworld::drawing::{EdgeAxis, LineDrawing};
 use blockworld::render::{Backend, Look, RenderOptions, Renderer};
 use blockworld::vision::{
     detect_with_directions, edge_directions, line_angle_errors_deg, match_vertices_with_tolerances,
-    Detection, EdgeDirection, MatchTolerances, VisionOptions,
+    Detection, EdgeDirection, MatchTolerances, VertexMatch, VisionOptions,
 };
 use image::GrayImage;
 use std::collections::BTreeMap;
@@ -85,6 +85,22 @@ struct Tally {
     ms: [f64; 3],
 }
 
+impl Tally {
+    /// Adds one view: its vertex match, line angle errors and ms per step.
+    fn add(&mut self, m: &VertexMatch, angles: &[f64], ms: [f64; 3]) {
+        self.views += 1;
+        self.truth += m.truth;
+        self.found += m.found;
+        self.matched += m.pairs.len();
+        self.codes_equal += m.codes_equal;
+        self.angles.extend(angles);
+        self.distances_px.extend(&m.distances_px);
+        for (a, b) in self.ms.iter_mut().zip(ms) {
+            *a += b;
+        }
+    }
+}
+
 /// Runs `blockworld bench vision`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     if args.scaling {
@@ -114,22 +130,29 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             tallies.push(&mut supported);
         }
         for t in tallies {
-            t.views += 1;
-            t.truth += m.truth;
-            t.found += m.found;
-            t.matched += m.pairs.len();
-            t.codes_equal += m.codes_equal;
-            t.angles.extend(&angles);
-            t.distances_px.extend(&m.distances_px);
-            for (a, b) in t.ms.iter_mut().zip(ms) {
-                *a += b;
-            }
+            t.add(&m, &angles, ms);
         }
     }
+    print_header(&args, all.views)?;
+    for (name, t) in &families {
+        print_row(name, t)?;
+    }
+    print_row("ALL", &all)?;
+    if supported.views != all.views {
+        print_row("ALL supported", &supported)?;
+    }
+    outln!(
+        "(vtx_px: mean distance of matched vertices, px; ms per view per step, fastest of --repeat; angle error in degrees over fitted lines with a true counterpart)"
+    )?;
+    Ok(())
+}
+
+/// The machine banner, the run's settings over `views` views and the table's column names.
+fn print_header(args: &Args, views: usize) -> anyhow::Result<()> {
     outln!("{}", super::machine::banner(None).trim_end())?;
     outln!(
         "vision front end vs ground truth: {} views, {}, noise sigma {}, match within {} px, one core",
-        all.views,
+        views,
         match args.perspective {
             Some(f) => format!("perspective {f} deg"),
             None => "orthographic".to_string(),
@@ -153,16 +176,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "lines",
         "verts",
         "total"
-    )?;
-    for (name, t) in &families {
-        print_row(name, t)?;
-    }
-    print_row("ALL", &all)?;
-    if supported.views != all.views {
-        print_row("ALL supported", &supported)?;
-    }
-    outln!(
-        "(vtx_px: mean distance of matched vertices, px; ms per view per step, fastest of --repeat; angle error in degrees over fitted lines with a true counterpart)"
     )?;
     Ok(())
 }
