@@ -253,29 +253,6 @@ fn tiled_cubes(dir: &Path, n: usize, aligned: bool) {
     std::fs::write(dir.join("lines_ne.json"), drawing.to_string()).unwrap();
 }
 
-/// Runs the binary with `args`, killing it after `limit_s` seconds; the output, and whether
-/// it ended by itself in time.
-fn blockworld_within(args: &[&str], limit_s: u64) -> (std::process::Output, bool) {
-    use std::process::Stdio;
-    let mut child = common::command()
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = std::time::Instant::now();
-    let mut in_time = true;
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed().as_secs() >= limit_s {
-            child.kill().unwrap();
-            in_time = false;
-            break;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    (child.wait_with_output().unwrap(), in_time)
-}
-
 /// Regression: `recognize --from-truth` of a 20 x 20 tiling of separate cubes (3,600 lines)
 /// searched for minutes without a word (10 x 10 at mismatched heights over 300 s); the search
 /// now spends at most its node budget, shows its progress on stderr, and declines naming the
@@ -288,7 +265,7 @@ fn recognize_of_a_large_tiling_declines_within_its_search_budget() {
     let (d, o) = (tiles.to_string_lossy(), out.to_string_lossy());
     let args = ["recognize", &d, "--from-truth", "--views", "ne", "-o", &o];
     tiled_cubes(&tiles, 20, false);
-    let (run, in_time) = blockworld_within(&args, 240);
+    let (run, in_time) = common::blockworld_within(&args, 240);
     let (stdout, stderr) = (common::ok(&run), common::stderr(&run));
     assert!(in_time, "still searching after 240 s: {stderr}");
     assert!(

@@ -7,10 +7,14 @@
 #![allow(dead_code, unused_imports)]
 
 pub mod geometry;
+pub mod mutate;
 pub mod run;
 
 pub use geometry::{distance_to_segment, exact_views, frame, same_blocks};
-pub use run::{blockworld, command, export_dataset, fails_with_2, ok, stderr};
+pub use run::{
+    blockworld, blockworld_within, command, export_dataset, fails_with_2, map_on_threads, ok,
+    stderr,
+};
 
 use blockworld::render::{Backend, Renderer};
 use image::{GrayImage, Luma};

@@ -109,3 +109,57 @@ where
         .output()
         .expect("runs the blockworld binary")
 }
+
+/// Runs the binary with `args`, killing it after `limit_s` seconds; the output, and whether
+/// it ended by itself in time.
+pub fn blockworld_within<S: AsRef<OsStr>>(
+    args: &[S],
+    limit_s: u64,
+) -> (std::process::Output, bool) {
+    use std::process::Stdio;
+    let mut child = command()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let mut in_time = true;
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() >= limit_s {
+            child.kill().unwrap();
+            in_time = false;
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    (child.wait_with_output().unwrap(), in_time)
+}
+
+/// `f` of every index in `0..count`, on `threads` threads (index `i` on thread `i % threads`),
+/// in index order: for tests that run the binary many times.
+pub fn map_on_threads<T: Send>(
+    count: usize,
+    threads: usize,
+    f: impl Fn(usize) -> T + Sync,
+) -> Vec<T> {
+    let f = &f;
+    let mut out: Vec<(usize, T)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                s.spawn(move || {
+                    (t..count)
+                        .step_by(threads)
+                        .map(|i| (i, f(i)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap())
+            .collect()
+    });
+    out.sort_by_key(|(i, _)| *i);
+    out.into_iter().map(|(_, t)| t).collect()
+}
