@@ -235,3 +235,33 @@ fn fall_animations_validate_and_a_mismatched_one_fails() {
     assert!(last.0 > 0, "expected an error: {}", last.2);
     assert!(last.2.contains("ANIMATION_SAMPLER"), "{}", last.2);
 }
+
+#[test]
+fn the_disassembly_animation_of_plan_has_no_errors_and_no_warnings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sample = common::root().join("scenes/thesis_sample.json");
+    let (json, glb) = (tmp.path().join("plan.json"), tmp.path().join("plan.glb"));
+    common::ok(common::blockworld([
+        "plan".as_ref(),
+        sample.as_os_str(),
+        "-o".as_ref(),
+        json.as_os_str(),
+        "--glb".as_ref(),
+        glb.as_os_str(),
+    ]));
+    let bytes = std::fs::read(&glb).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("the .glb reads back");
+    let animation = gltf.document.animations().next().expect("one animation");
+    assert_eq!(animation.name(), Some("disassembly"));
+    // A translation and a rotation channel per block of the sample.
+    let moves = animation
+        .channels()
+        .filter(|c| c.target().property() == gltf::animation::Property::Translation);
+    assert_eq!(moves.count(), 5);
+    assert_eq!(animation.channels().count(), 10);
+    let Some(reports) = validate(&[glb]) else {
+        return;
+    };
+    let (errors, warnings, line) = &reports[0];
+    assert_eq!((*errors, *warnings), (0, 0), "{line}");
+}

@@ -47,6 +47,8 @@ pub enum Command {
     Generate(commands::generate::Args),
     /// Join shard manifests of a dataset and check nothing is missing or doubled.
     Merge(commands::merge::Args),
+    /// The order a robot takes a reconstruction's blocks away, verified with rapier, with grasps (thesis Ch. VII).
+    Plan(commands::plan::Args),
     /// Score a reconstruction against ground truth (parry3d volume overlap).
     Score(commands::score::Args),
     /// Sobel edge detection with 3x3 smoothing and a threshold (thesis Ch. II, VI).
@@ -109,6 +111,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Settle(a) => commands::settle::run(a),
         Command::Generate(a) => commands::generate::run(a),
         Command::Merge(a) => commands::merge::run(a),
+        Command::Plan(a) => commands::plan::run(a),
         Command::Score(a) => commands::score::run(a),
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),

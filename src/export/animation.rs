@@ -18,10 +18,21 @@ pub fn scene_fall_to_gltf(
     times_s: &[f64],
     frames: &[Vec<(DVec3, DQuat)>],
 ) -> Result<GltfFiles, ExportError> {
+    scene_animation_to_gltf(scene, "fall", times_s, frames)
+}
+
+/// [`scene_fall_to_gltf`] with the animation named `name` (`plan --glb` writes its
+/// `disassembly` with it, docs/plan.md "Output").
+pub fn scene_animation_to_gltf(
+    scene: &Scene,
+    name: &str,
+    times_s: &[f64],
+    frames: &[Vec<(DVec3, DQuat)>],
+) -> Result<GltfFiles, ExportError> {
     check_keyframes(scene, times_s, frames)?;
     let mut doc = DocumentBuilder::new(scene)?;
     let nodes = doc.push_block_nodes(scene, None)?;
-    doc.push_fall(&nodes, times_s, frames);
+    doc.push_fall(name, &nodes, times_s, frames);
     Ok(doc.finish(scene, nodes))
 }
 
@@ -72,9 +83,10 @@ fn check_keyframes(
 }
 
 impl DocumentBuilder {
-    /// Adds the `fall` animation over `nodes` (block order).
+    /// Adds the animation `name` over `nodes` (block order).
     fn push_fall(
         &mut self,
+        name: &str,
         nodes: &[json::Index<json::Node>],
         times_s: &[f64],
         frames: &[Vec<(DVec3, DQuat)>],
@@ -139,7 +151,7 @@ impl DocumentBuilder {
             }
         }
         self.root.push(json::Animation {
-            name: Some("fall".to_string()),
+            name: Some(name.to_string()),
             channels,
             samplers,
             extensions: Default::default(),

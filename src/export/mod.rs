@@ -25,7 +25,7 @@ mod overlay;
 mod thesis;
 pub mod wireframe;
 
-pub use animation::{scene_fall_to_glb, scene_fall_to_gltf};
+pub use animation::{scene_animation_to_gltf, scene_fall_to_glb, scene_fall_to_gltf};
 pub use overlay::{reconstruction_with_truth_to_glb, reconstruction_with_truth_to_gltf};
 
 pub use thesis::{

@@ -1,4 +1,6 @@
 //! Settling scenes with rapier3d (docs/datasets.md "Settling"): the only home of rapier3d.
+//! On it: whether blocks stand and why one moves ([`check_standing`]), and the order a robot
+//! takes them apart ([`plan_disassembly`], thesis Chapter VII; docs/plan.md).
 //!
 //! A scene's blocks are dropped from a small gap above their intended poses onto a fixed floor
 //! and simulated until the stack is **at rest** (every body below [`SettleParams::rest_speed_mm_s`]
@@ -21,15 +23,19 @@
 //! settling it again gives the same bytes. An **unstable** scene carries the simulated poses.
 
 mod fall;
+mod grasp;
 mod motion;
+mod plan;
 mod report;
 mod stand;
 mod support;
 
 pub use fall::{block_cause, label_stability, Cause, StabilityLabel};
+pub use grasp::{grasp_of, Grasp, Gripper};
 pub use motion::{
     FirstMove, Motion, Trajectory, TrajectoryError, TRAJECTORY_FPS, TRAJECTORY_MAGIC,
 };
+pub use plan::{plan_disassembly, verify_disassembly, PlanOutcome, PlanParams, PlanStep};
 pub use report::{BlockReport, SettleReport};
 pub use stand::{check_standing, MoveCause, Movement, StandReport};
 pub use support::{

@@ -10,6 +10,7 @@ pub mod export_dataset;
 pub mod generate;
 pub mod label;
 pub mod merge;
+pub mod plan;
 pub mod recognize;
 mod recognize_debug;
 pub mod render;
