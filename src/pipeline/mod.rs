@@ -47,7 +47,9 @@ pub struct PipelineOptions {
     pub views: Vec<CornerView>,
     /// Pictures through vision, or the exact drawings.
     pub source: DrawingSource,
-    /// The recognizer's tolerances and limits.
+    /// The recognizer's tolerances and limits. The default has no time budget, only the node
+    /// budget (docs/limits.md "Recognizer"), so that an accuracy figure is the same on every
+    /// machine and under any load.
     pub recognize: RecognizeOptions,
     /// The scorer's tolerances and bars.
     pub score: ScoreOptions,
@@ -61,7 +63,10 @@ impl Default for PipelineOptions {
             render: RenderOptions::default(),
             views: CornerView::ALL.to_vec(),
             source: DrawingSource::Pictures(VisionOptions::default()),
-            recognize: RecognizeOptions::default(),
+            recognize: RecognizeOptions {
+                time_budget_s: f64::INFINITY,
+                ..RecognizeOptions::default()
+            },
             score: ScoreOptions::default(),
             layer_tol_mm: 0.5,
         }

@@ -12,7 +12,7 @@ use anyhow::{bail, Context};
 use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
 use blockworld::pipeline::{run_suite, DrawingSource, PipelineOptions};
-use blockworld::recognize::{recognize_in_pictures, ObservedView, RecognizeOptions};
+use blockworld::recognize::{recognize_in_pictures, ObservedView};
 use blockworld::render::{Look, RenderOptions, Renderer};
 use blockworld::scene::{read_scene, Scene};
 use blockworld::score::{
@@ -174,8 +174,9 @@ fn check_cameras(
 fn recognize_pictures(s: &PictureScene, views: &[CornerView]) -> SceneResult {
     let answer = observe_pictures(s, views).and_then(|(observed, pictures)| {
         let pictures: Vec<&GrayImage> = pictures.iter().collect();
-        let recognition = recognize_in_pictures(&observed, &pictures, &RecognizeOptions::default())
-            .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
+        let recognition =
+            recognize_in_pictures(&observed, &pictures, &PipelineOptions::default().recognize)
+                .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
         Ok(reconstruction(
             &s.truth.name,
             &recognition,
