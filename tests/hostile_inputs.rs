@@ -103,6 +103,19 @@ fn bench_block_counts_beyond_their_cap_are_refused() {
     }
 }
 
+/// Regression: `bench render --iterations 0` ran 4 timed renders per scene without a word;
+/// fewer than 4 (one per view) is refused before any work, naming the flag.
+#[test]
+fn bench_render_refuses_fewer_than_four_iterations() {
+    for n in ["0", "3"] {
+        let err = fails_with_2(&blockworld(["bench", "render", "--iterations", n]));
+        assert!(
+            err.contains(&format!("--iterations {n}: give at least 4")),
+            "{n}: {err}"
+        );
+    }
+}
+
 /// A chain of `lines` segments between seeded random points (picture px), as drawing JSON.
 fn random_chain(lines: usize, seed: u64) -> String {
     let mut state = seed;

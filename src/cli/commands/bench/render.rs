@@ -20,7 +20,8 @@ use std::time::{Duration, Instant};
 /// Options of `blockworld bench render`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Timed renders per scene (spread over the four views), after 32 untimed warm-up renders.
+    /// Timed renders per scene (spread over the four views, at least 4), after 32 untimed
+    /// warm-up renders.
     #[arg(long, default_value_t = 200)]
     pub iterations: usize,
     /// Graphics backend: vulkan (lavapipe, default) or gl (llvmpipe through EGL).
@@ -63,7 +64,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         msaa: args.msaa,
         ..Default::default()
     };
-    let iterations = args.iterations.max(4);
+    if args.iterations < 4 {
+        anyhow::bail!(
+            "--iterations {}: give at least 4 timed renders per scene, one per view",
+            args.iterations
+        );
+    }
+    let iterations = args.iterations;
     super::check_block_counts(
         "blocks",
         &args.blocks,
