@@ -37,7 +37,7 @@ pub use motion::{
 };
 pub use plan::{plan_disassembly, verify_disassembly, PlanOutcome, PlanParams, PlanStep};
 pub use report::{BlockReport, SettleReport};
-pub use stand::{check_standing, MoveCause, Movement, StandReport};
+pub use stand::{check_standing, describe_cause, Movement, StandReport};
 pub use support::{
     centre_of_mass_mm, centre_of_mass_overhang_mm, supports_of, Support, CONTACT_TOL_MM,
 };

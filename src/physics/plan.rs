@@ -3,7 +3,7 @@
 //! each step verified with rapier, with the grasp of each block; built in the reverse order.
 
 use super::grasp::{grasp_of, Grasp, Gripper};
-use super::{check_standing, supports_of, PhysicsError, SettleParams, Support};
+use super::{check_standing, describe_cause, supports_of, PhysicsError, SettleParams, Support};
 use crate::scene::Block;
 
 /// What a plan is made with: how each step is settled and judged, and the gripper.
@@ -167,7 +167,7 @@ fn check_removal(
             rest[m.block],
             m.type_id,
             m.displacement_mm,
-            m.cause.describe()
+            describe_cause(m.cause)
         )));
     }
     if !report.stands() {

@@ -3,40 +3,23 @@
 //! far it moved and why (docs/recognizer.md "Reconstructions that must stand"). The recognizer's answers go through it
 //! before `ok` (`pipeline::recognize_standing`), and `plan` through it after every removal.
 
-use super::support::{centre_of_mass_overhang_mm, supports_of};
+use super::fall::{block_cause, Cause};
+use super::support::supports_of;
 use super::{settle, PhysicsError, SettleParams, SettleReport};
 use crate::scene::{Block, Scene};
 
-/// Why a block moved, read from the intended poses (what holds it) and the simulation (how it
-/// moved), most telling first.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MoveCause {
-    /// Nothing under it: neither the floor nor the top face of another block.
-    InTheAir,
-    /// Its centre of mass lies beyond the region its supports span (thesis Figure 7.2's upper
-    /// block larger than, or shifted off, the one below).
-    Overhang,
-    /// Held up, but it turned beyond [`SettleParams::turn_tol_deg`]: it tips with what carries it.
-    Toppling,
-    /// Held up, it moved without turning: pushed or carried.
-    Sliding,
-}
-
-impl MoveCause {
-    /// The cause in words, as a decline reason says it.
-    pub fn describe(self) -> &'static str {
-        match self {
-            MoveCause::InTheAir => "hanging in the air",
-            MoveCause::Overhang => "overhang: its centre of mass is beyond its support",
-            MoveCause::Toppling => "toppling",
-            MoveCause::Sliding => "sliding",
-        }
+/// A cause in words, as a decline reason says it.
+pub fn describe_cause(cause: Cause) -> &'static str {
+    match cause {
+        Cause::UnsupportedCentreOfMass => "hanging in the air",
+        Cause::OverhangBeyondSupport => "overhang: its centre of mass is beyond its support",
+        Cause::Toppling => "toppling",
+        Cause::Sliding => "sliding",
     }
 }
 
 /// One block that does not stay where it is.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Movement {
     /// Block index.
     pub block: usize,
@@ -46,8 +29,8 @@ pub struct Movement {
     pub displacement_mm: f64,
     /// Angle it turned, degrees.
     pub turn_deg: f64,
-    /// Why.
-    pub cause: MoveCause,
+    /// Why ([`block_cause`], the rules a stability label uses).
+    pub cause: Cause,
 }
 
 /// The verdict on a set of blocks: the blocks that move, the most telling first.
@@ -90,7 +73,7 @@ impl StandReport {
             m.type_id,
             m.displacement_mm,
             m.turn_deg,
-            m.cause.describe()
+            describe_cause(m.cause)
         ))
     }
 }
@@ -101,7 +84,8 @@ pub fn check_standing(
     blocks: &[Block],
     params: &SettleParams,
 ) -> Result<StandReport, PhysicsError> {
-    let settled = settle(&Scene::new("standing", blocks.to_vec()), params)?;
+    let scene = Scene::new("standing", blocks.to_vec());
+    let settled = settle(&scene, params)?;
     let report = settled.report;
     let supports = supports_of(blocks);
     let mut moved: Vec<Movement> = report
@@ -109,15 +93,7 @@ pub fn check_standing(
         .into_iter()
         .map(|i| {
             let b = &report.blocks[i];
-            let cause = if supports[i].is_empty() {
-                MoveCause::InTheAir
-            } else if centre_of_mass_overhang_mm(blocks, i).is_some_and(|d| d > 0.0) {
-                MoveCause::Overhang
-            } else if b.turn_deg > params.turn_tol_deg {
-                MoveCause::Toppling
-            } else {
-                MoveCause::Sliding
-            };
+            let cause = block_cause(&scene, &supports, &report, i, params);
             Movement {
                 block: i,
                 type_id: blocks[i].block_type.id,
@@ -165,7 +141,7 @@ mod tests {
         let r = check_standing(&blocks, &SettleParams::default()).unwrap();
         assert!(!r.stands());
         let m = r.moved[0];
-        assert_eq!((m.block, m.cause), (1, MoveCause::InTheAir));
+        assert_eq!((m.block, m.cause), (1, Cause::UnsupportedCentreOfMass));
         assert!(m.displacement_mm > 20.0, "{m:?}");
         let why = r.describe().unwrap();
         assert!(why.starts_with("block 1 (b15) moves 2"), "{why}");
@@ -177,7 +153,11 @@ mod tests {
         let params = SettleParams::default();
         let tips = check_standing(&[b15(0.0, 7.5), b15(10.0, 22.5)], &params).unwrap();
         assert_eq!(tips.moved[0].block, 1);
-        assert_eq!(tips.moved[0].cause, MoveCause::Overhang, "{tips:?}");
+        assert_eq!(
+            tips.moved[0].cause,
+            Cause::OverhangBeyondSupport,
+            "{tips:?}"
+        );
         let holds = check_standing(&[b15(0.0, 7.5), b15(5.0, 22.5)], &params).unwrap();
         assert!(holds.stands(), "{holds:?}");
     }
@@ -188,13 +168,13 @@ mod tests {
         let blocks = [b15(0.0, 7.5), b15(10.0, 22.5), b15(10.0, 37.5)];
         let r = check_standing(&blocks, &SettleParams::default()).unwrap();
         assert_eq!(r.moved[0].block, 1, "{r:?}");
-        assert_eq!(r.moved[0].cause, MoveCause::Overhang);
+        assert_eq!(r.moved[0].cause, Cause::OverhangBeyondSupport);
         let top = r
             .moved
             .iter()
             .find(|m| m.block == 2)
             .expect("the top cube moves");
-        assert_eq!(top.cause, MoveCause::Toppling, "{r:?}");
+        assert_eq!(top.cause, Cause::Toppling, "{r:?}");
         assert!(r.describe().unwrap().contains(" more blocks move"));
     }
 }
