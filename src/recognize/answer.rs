@@ -130,6 +130,14 @@ pub enum Decline {
         /// Which ran out, after how much.
         detail: String,
     },
+    /// The views do not place a block as precisely as an exact answer needs.
+    #[error("block {block} is not placed to an exact answer's precision: every view's corners together put its group {shift_mm:.2} mm from where it stands and the views do not agree on the shift (step 6 holds each corner to its 2 px tolerance; an answer overlapping the truth by less than 0.99 is not exact)")]
+    Imprecise {
+        /// Index of the block in the hypothesis.
+        block: usize,
+        /// Length of the group's fitted horizontal shift, mm.
+        shift_mm: f64,
+    },
     /// The best hypothesis does not explain a view.
     #[error("view {view} not explained by catalog blocks: {} observed points and {} lines unexplained, {} points and {} lines drawn in excess (shapes outside the catalog or occlusion the views cannot resolve)", .check.unexplained_points, .check.unexplained_lines, .check.extra_points, .check.extra_lines)]
     Unexplained {

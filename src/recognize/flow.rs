@@ -8,11 +8,11 @@ use super::catalog_match::{catalog_proposals_where, level_heights_mm, Proposal};
 use super::compare::{choose_hypothesis, greedy_and_split_from, pool_proposals, Hypothesis};
 use super::compare::{PooledCandidate, SearchLimits};
 use super::constraints::overhanging_blocks;
-use super::constraints::{curved_chain_lines, floating_blocks, lines_off_the_axes};
+use super::constraints::{curved_chain_lines, floating_blocks, lines_off_the_axes, AxisTolerance};
 use super::direct::{direct_hypothesis_within, Silhouettes};
 use super::parallelogram::{Face, ParallelogramSearch};
 use super::picture::{pictures_mismatch, without_weak_lines, ViewPicture};
-use super::placement::placed_by_all_views;
+use super::placement::{imprecisely_placed, placed_by_all_views};
 use super::repair::repaired_in_pictures;
 use super::select::select_vertices;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
@@ -63,13 +63,22 @@ pub(super) fn check_directions(
         if count > 0 {
             return Err(Decline::UnclassifiedLines { view, count });
         }
-        let off = lines_off_the_axes(&v.drawing, &v.camera, tol);
+        let off = lines_off_the_axes(&v.drawing, &v.camera, axis_tolerance(opts));
         let count = off.iter().filter(|l| !slopes.contains(l)).count();
         if count > 0 {
             return Err(Decline::NotOneDirection { view, count });
         }
     }
     Ok(trapezoids)
+}
+
+/// The tolerance of Chapter VII's one-direction check: `axis_tol_deg`, or, on a short line,
+/// either end `tol_px` across the axis line ([`AxisTolerance`]).
+fn axis_tolerance(opts: &RecognizeOptions) -> AxisTolerance {
+    AxisTolerance {
+        tol_deg: opts.axis_tol_deg,
+        end_tol_px: opts.tol_px,
+    }
 }
 
 /// Steps 1-3 on one view: its proposals (only those fitting a closed parallelogram exactly,
@@ -299,6 +308,10 @@ pub(super) fn final_checks(
     if let Some(detail) = alternative {
         return Some(Decline::Ambiguous { detail });
     }
+    if let Some((block, shift)) = imprecisely_placed(blocks, &h.drawn, views, opts.tol_px) {
+        let shift_mm = shift.length();
+        return Some(Decline::Imprecise { block, shift_mm });
+    }
     if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
         return Some(Decline::UpperLayerLarger { block });
     }
@@ -334,7 +347,7 @@ pub(super) fn drop_weak_off_axis_lines(
     opts: &RecognizeOptions,
 ) {
     for (v, pic) in views.iter_mut().zip(pictures) {
-        let mut off = lines_off_the_axes(&v.drawing, &v.camera, opts.axis_tol_deg);
+        let mut off = lines_off_the_axes(&v.drawing, &v.camera, axis_tolerance(opts));
         off.extend(v.drawing.unclassified_lines.iter().copied());
         off.retain(|k| !v.drawing.curved_lines.contains(k));
         if !off.is_empty() {
