@@ -287,10 +287,30 @@ impl Renderer {
                 .map(|&view| self.render_pixels_through_sensor(scene, view, opts))
                 .collect();
         }
-        let points: Vec<DVec3> = scene.world_vertices();
+        self.render_views_pixels_framed(scene, views, opts, &scene.world_vertices())
+    }
+
+    /// [`Renderer::render_views_pixels`] in line art with each camera framed on `frame_mm`
+    /// instead of the scene's own vertices: the frames of a fall drawn from one fixed camera
+    /// (docs/stability.md "A fall in pictures"). Other looks are refused.
+    pub fn render_views_pixels_framed(
+        &self,
+        scene: &Scene,
+        views: &[CornerView],
+        opts: &RenderOptions,
+        frame_mm: &[DVec3],
+    ) -> Result<Vec<RenderedView>, RenderError> {
+        self.check_options(opts)?;
+        if opts.look != Look::LineArt || opts.downsample > 1 {
+            return Err(RenderError::Options(
+                "a camera framed on given points draws line art only; drop --look and --downsample"
+                    .into(),
+            ));
+        }
+        let points = frame_mm;
         let cameras: Vec<Camera> = views
             .iter()
-            .map(|v| Camera::frame(&points, *v, &opts.camera))
+            .map(|v| Camera::frame(points, *v, &opts.camera))
             .collect();
         let meshes = cameras
             .iter()
