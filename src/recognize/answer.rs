@@ -148,6 +148,29 @@ pub enum Decline {
     },
 }
 
+/// Each kind of [`Decline`] by a short name (for grouping answers, e.g. in `blockworld report`)
+/// and a phrase that its message holds and no other kind's message does.
+pub const DECLINE_KINDS: [(&str, &str); 9] = [
+    ("round parts", "curved chains"),
+    ("trapezoidal block", "show a sloped face"),
+    ("unclassified lines", "fall in no six-bit direction"),
+    ("not one direction", "run along no block axis"),
+    ("upper layer larger", "upper layer larger"),
+    ("ambiguous", "the views do not decide"),
+    ("hidden support", "has no visible support"),
+    ("search budget spent", "search budget of"),
+    ("view not explained", "not explained by catalog blocks"),
+];
+
+/// The short name of the [`Decline`] whose message is `reason` ([`DECLINE_KINDS`]); `"other"`
+/// for a reason no kind's phrase is in.
+pub fn decline_kind(reason: &str) -> &'static str {
+    DECLINE_KINDS
+        .iter()
+        .find(|(_, phrase)| reason.contains(phrase))
+        .map_or("other", |(name, _)| name)
+}
+
 /// Bad input to [`recognize`] (a programming or file error, not a scene the method declines).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RecognizeError {
@@ -214,5 +237,54 @@ impl Recognition {
             touching: Vec::new(),
             evidence,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_decline_has_its_own_kind() {
+        let check = ViewCheck {
+            unexplained_points: 1,
+            extra_points: 0,
+            unexplained_lines: 2,
+            extra_lines: 0,
+        };
+        let view = || "ne".to_string();
+        let all = [
+            Decline::RoundParts {
+                view: view(),
+                count: 3,
+            },
+            Decline::TrapezoidalBlock { view: view() },
+            Decline::UnclassifiedLines {
+                view: view(),
+                count: 2,
+            },
+            Decline::NotOneDirection {
+                view: view(),
+                count: 4,
+            },
+            Decline::UpperLayerLarger { block: 1 },
+            Decline::Ambiguous {
+                detail: "a b30 or two b15".into(),
+            },
+            Decline::HiddenSupport { block: 2 },
+            Decline::SearchBudget {
+                node_budget: 10,
+                time_budget_s: 1.0,
+                detail: "10 nodes".into(),
+            },
+            Decline::Unexplained {
+                view: view(),
+                check,
+            },
+        ];
+        let kinds: Vec<&str> = all.iter().map(|d| decline_kind(&d.to_string())).collect();
+        let names: Vec<&str> = DECLINE_KINDS.iter().map(|(n, _)| *n).collect();
+        assert_eq!(kinds, names);
+        assert_eq!(decline_kind("the disk is full"), "other");
     }
 }

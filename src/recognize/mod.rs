@@ -43,7 +43,10 @@ pub mod steps;
 #[cfg(test)]
 mod tests;
 
-pub use answer::{Evidence, ObservedView, Recognition, RecognizeError, RecognizeOptions};
+pub use answer::{
+    decline_kind, Evidence, ObservedView, Recognition, RecognizeError, RecognizeOptions,
+    DECLINE_KINDS,
+};
 pub use answer::{DEFAULT_NODE_BUDGET, DEFAULT_TIME_BUDGET_S};
 pub use budget::{SearchBudget, SearchProgress};
 pub use catalog_match::{Layer, MatchTolerances};

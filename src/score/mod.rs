@@ -37,7 +37,7 @@ pub use reference::{
 };
 pub use suite::{
     check_gate, scene_family, score_suite_scene, summarize_by_family, FamilySummary, GateFailure,
-    Golden, GoldenScene, NoReconstruction, SceneResult, BLESS_COMMAND,
+    Golden, GoldenScene, NoReconstruction, SceneResult, BLESS_COMMAND, FAMILY_TABLE_HEADINGS,
 };
 pub use verdict::{
     score_reconstruction, score_reconstruction_with_options, Score, ScoreOptions, Verdict,

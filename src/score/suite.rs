@@ -154,6 +154,51 @@ pub struct FamilySummary {
     pub declined: usize,
 }
 
+/// The columns of the per-family table, which `bench accuracy` prints in Markdown and
+/// `blockworld report` shows in HTML ([`FamilySummary::cells`]).
+pub const FAMILY_TABLE_HEADINGS: [&str; 8] = [
+    "family",
+    "scenes",
+    "mean IoU",
+    "blocks P / R / F1 at 3D IoU ≥ 0.5",
+    "exact",
+    "declined",
+    "confidently wrong",
+    "expected failures",
+];
+
+impl FamilySummary {
+    /// The row's cells under [`FAMILY_TABLE_HEADINGS`]; the last is `-` without known failure
+    /// cases, else how many of them were declined, with `(!)` when one came out partial.
+    pub fn cells(&self) -> [String; 8] {
+        let failures = if self.expected_failures == 0 {
+            "-".to_string()
+        } else {
+            format!(
+                "{}/{} declined{}",
+                self.flagged,
+                self.expected_failures,
+                if self.unexpected_passes > 0 {
+                    " (!)"
+                } else {
+                    ""
+                }
+            )
+        };
+        let d = &self.detection;
+        [
+            self.family.clone(),
+            self.scenes.to_string(),
+            format!("{:.4}", self.mean_iou),
+            format!("{:.3} / {:.3} / {:.3}", d.precision, d.recall, d.f1),
+            format!("{:.0}%", 100.0 * self.exact_share),
+            self.declined.to_string(),
+            self.confidently_wrong.to_string(),
+            failures,
+        ]
+    }
+}
+
 fn no_detection() -> Detection {
     Detection::from_counts(DETECTION_MIN_IOU, 0, 0, 0)
 }
