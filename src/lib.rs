@@ -60,6 +60,7 @@ pub mod physics;
 pub mod pipeline;
 pub mod recognize;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod score;
 pub mod view;

@@ -55,6 +55,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "geom",
         ],
     ),
+    (
+        "report",
+        &["scene", "drawing", "recognize", "score", "geom"],
+    ),
     ("cli", &["*"]),
 ];
 
@@ -66,7 +70,7 @@ const BELOW_RENDER: &[&str] = &[
 
 /// Stages after the renderer in the flow that still must not import it: they need the exact
 /// line drawing (`linedraw`, pure geometry) or the scene, never the GPU code or its pictures.
-const NOT_RENDER_CLIENTS: &[&str] = &["recognize", "kanade", "view", "score"];
+const NOT_RENDER_CLIENTS: &[&str] = &["recognize", "kanade", "view", "score", "report"];
 
 /// External crate -> the only stages (path prefixes under src/) that may name it.
 const EXTERNAL_HOMES: &[(&str, &[&str])] = &[

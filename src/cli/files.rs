@@ -74,3 +74,95 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> anyhow::Result<()> {
     }
     Ok(())
 }
+
+/// A folder written whole or not at all (docs/report.md "Output"): the files go into a
+/// temporary folder beside `dest`, which [`StagedFolder::publish`] renames into place; dropped
+/// unpublished (an error), the temporary folder is removed and `dest` is untouched.
+pub struct StagedFolder {
+    /// The temporary folder being written.
+    pub tmp: std::path::PathBuf,
+    dest: std::path::PathBuf,
+    published: bool,
+}
+
+impl StagedFolder {
+    /// Checks that `dest` may be replaced, before any work: it is absent, an empty folder, or
+    /// a folder holding `marker` (an earlier output of the same command); then makes the
+    /// temporary folder.
+    pub fn new(dest: &Path, marker: &str, what: &str) -> anyhow::Result<StagedFolder> {
+        if dest.exists() {
+            let empty = std::fs::read_dir(dest)
+                .with_context(|| {
+                    format!(
+                        "{}: not a folder; give a folder for the {what}",
+                        dest.display()
+                    )
+                })?
+                .next()
+                .is_none();
+            if !empty && !dest.join(marker).is_file() {
+                anyhow::bail!(
+                    "{}: holds files but no {marker}, so it is not an earlier {what}; give a new or empty folder",
+                    dest.display()
+                );
+            }
+        }
+        let name = dest
+            .file_name()
+            .with_context(|| format!("{}: give a folder name", dest.display()))?;
+        let tmp = dest.with_file_name(format!(
+            ".{}.tmp-{}",
+            name.to_string_lossy(),
+            std::process::id()
+        ));
+        if tmp.exists() {
+            std::fs::remove_dir_all(&tmp).with_context(|| format!("removing {}", tmp.display()))?;
+        }
+        std::fs::create_dir_all(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
+        Ok(StagedFolder {
+            tmp,
+            dest: dest.to_path_buf(),
+            published: false,
+        })
+    }
+
+    /// Writes `bytes` to `relative` in the temporary folder, making its folder first.
+    pub fn write(&self, relative: &str, bytes: &[u8]) -> anyhow::Result<()> {
+        let path = self.tmp.join(relative);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("creating {}", parent.display()))?;
+        }
+        std::fs::write(&path, bytes).with_context(|| format!("writing {}", path.display()))
+    }
+
+    /// Renames the finished folder to `dest`, replacing what `new` accepted there.
+    pub fn publish(mut self) -> anyhow::Result<()> {
+        let old = self.tmp.with_extension("old");
+        if self.dest.exists() {
+            std::fs::rename(&self.dest, &old)
+                .with_context(|| format!("moving the earlier {} aside", self.dest.display()))?;
+        }
+        if let Err(e) = std::fs::rename(&self.tmp, &self.dest) {
+            if old.exists() {
+                let _ = std::fs::rename(&old, &self.dest);
+            }
+            return Err(e).with_context(|| {
+                format!("renaming {} to {}", self.tmp.display(), self.dest.display())
+            });
+        }
+        self.published = true;
+        if old.exists() {
+            std::fs::remove_dir_all(&old).with_context(|| format!("removing {}", old.display()))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for StagedFolder {
+    fn drop(&mut self) {
+        if !self.published {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+        }
+    }
+}

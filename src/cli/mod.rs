@@ -57,6 +57,10 @@ pub enum Command {
     Vertices(commands::vertices::Args),
     /// Recognize the blocks of rendered views (thesis Ch. IV-V): a reconstruction file.
     Recognize(commands::recognize::Args),
+    /// Recognize and score every scene of a dataset: the folder `report --recognitions` reads.
+    RecognizeDataset(commands::recognize_dataset::Args),
+    /// A static web site of a dataset and the recognizer's answers on it (docs/report.md).
+    Report(commands::report::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
     Export(commands::export::Args),
     /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
@@ -116,6 +120,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Edges(a) => commands::edges::run(a),
         Command::Vertices(a) => commands::vertices::run(a),
         Command::Recognize(a) => commands::recognize::run(a),
+        Command::RecognizeDataset(a) => commands::recognize_dataset::run(a),
+        Command::Report(a) => commands::report::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Label(a) => commands::label::run(a),
         Command::Compare(a) => commands::compare::run(a),

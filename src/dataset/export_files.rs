@@ -69,7 +69,7 @@ pub(super) fn part_is_complete(part_path: &Path, out: &Path) -> bool {
 }
 
 /// The views of a scene: every `lines_<v>.json` in its manifest line that has a `view_<v>.png`.
-pub(super) fn views_of(entry: &ManifestEntry) -> Vec<String> {
+pub fn views_of(entry: &ManifestEntry) -> Vec<String> {
     entry
         .files
         .keys()

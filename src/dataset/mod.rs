@@ -24,6 +24,7 @@ mod wireframe;
 mod writer;
 
 pub use error::DatasetError;
+pub use export_files::views_of;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
 pub use generate::{
     draw_scene, draw_stable_scene, scene_id, scene_seed, wants_stable, DrawnScene, SceneSpec,

@@ -13,10 +13,12 @@ use blockworld::csg::reconstruction;
 use blockworld::physics::SettleParams;
 use blockworld::pipeline::check_answer_stands;
 use blockworld::recognize::{
-    recognize_with_progress, ObservedView, RecognizeOptions, SearchProgress,
+    recognize_with_progress, ObservedView, Recognition, RecognizeOptions, SearchProgress,
 };
 use blockworld::scene::reconstruction_to_json;
-use blockworld::vision::{detect_line_drawing_with_progress, VisionOptions, VISION_STEPS};
+use blockworld::vision::{
+    detect_line_drawing, detect_line_drawing_with_progress, VisionOptions, VISION_STEPS,
+};
 use std::path::{Path, PathBuf};
 
 /// Options of `blockworld recognize`.
@@ -27,13 +29,9 @@ pub struct Args {
     /// The reconstruction file to write.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Comma-separated corner views to use (any subset, e.g. `ne,sw`).
-    #[arg(long, value_delimiter = ',', default_value = "ne,se,sw,nw")]
-    pub views: Vec<String>,
-    /// Read the exact line drawings `lines_<v>.json` instead of running the vision front end
-    /// on `view_<v>.png`.
-    #[arg(long)]
-    pub from_truth: bool,
+    /// The views and where their drawings come from.
+    #[command(flatten)]
+    pub source: SourceArgs,
     /// Also write the thesis's intermediate files here: the six-bit analysis of every vertex
     /// (Figure A.6), the parallelogram search results, the layer table, and one overlay PNG per
     /// view with the answer's drawing over the picture.
@@ -64,12 +62,27 @@ fn search_progress() -> impl Fn(SearchProgress) {
     }
 }
 
+/// Which views the recognizer reads and where their drawings come from (`recognize` and
+/// `recognize-dataset`).
+#[derive(Debug, clap::Args)]
+pub struct SourceArgs {
+    /// Comma-separated corner views to use (any subset, e.g. `ne,sw`).
+    #[arg(long, value_delimiter = ',', default_value = "ne,se,sw,nw")]
+    pub views: Vec<String>,
+    /// Read the exact line drawings `lines_<v>.json` instead of running the vision front end
+    /// on `view_<v>.png`.
+    #[arg(long)]
+    pub from_truth: bool,
+}
+
 /// Reads one view of `dir`: its camera and its drawing (exact, or from the picture, which is
-/// then returned too for step 6's picture-aware check).
-fn read_view(
+/// then returned too for step 6's picture-aware check); `shown` shows the vision front end's
+/// progress (one scene), or not (a dataset's scenes in parallel).
+pub(super) fn read_view(
     dir: &Path,
     view: CornerView,
     from_truth: bool,
+    shown: bool,
 ) -> anyhow::Result<(ObservedView, Option<image::GrayImage>)> {
     let v = view.name();
     let camera_path = dir.join(format!("camera_{v}.json"));
@@ -93,9 +106,14 @@ fn read_view(
     }
     let picture = dir.join(format!("view_{v}.png"));
     let gray = read_picture(&picture)?;
-    let drawing = with_progress(&format!("vision {v}"), "steps", VISION_STEPS, |p| {
-        detect_line_drawing_with_progress(&gray, &camera, &VisionOptions::default(), p)
-    })
+    let opts = VisionOptions::default();
+    let drawing = if shown {
+        with_progress(&format!("vision {v}"), "steps", VISION_STEPS, |p| {
+            detect_line_drawing_with_progress(&gray, &camera, &opts, p)
+        })
+    } else {
+        detect_line_drawing(&gray, &camera, &opts)
+    }
     .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
     .drawing;
     Ok((ObservedView { drawing, camera }, Some(gray)))
@@ -122,25 +140,43 @@ fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
     crate::cli::files::check_output(&args.output, &inputs)
 }
 
-/// Runs `blockworld recognize`.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let views = crate::cli::view_args::parse_corner_views(&args.views)?;
-    check_paths(&args, &views)?;
+/// Reads `views` of the folder `dir` ([`read_view`]) and recognizes them (the search's progress
+/// on stderr when `shown`), the answer checked to stand (`pipeline::check_answer_stands`);
+/// returns the observed views and the answer.
+pub(super) fn recognize_folder(
+    dir: &Path,
+    views: &[CornerView],
+    from_truth: bool,
+    shown: bool,
+    opts: &RecognizeOptions,
+) -> anyhow::Result<(Vec<ObservedView>, Recognition)> {
     let (observed, pictures): (Vec<ObservedView>, Vec<Option<image::GrayImage>>) = views
         .iter()
-        .map(|&v| read_view(&args.dir, v, args.from_truth))
+        .map(|&v| read_view(dir, v, from_truth, shown))
         .collect::<anyhow::Result<Vec<_>>>()?
         .into_iter()
         .unzip();
     let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
+    let quiet = |_: SearchProgress| {};
+    let shown_progress = search_progress();
+    let progress: &dyn Fn(SearchProgress) = if shown { &shown_progress } else { &quiet };
+    let recognition = recognize_with_progress(&observed, &pictures, opts, progress)
+        .with_context(|| format!("recognizing {}", dir.display()))?;
+    let recognition = check_answer_stands(recognition, &SettleParams::default()).recognition;
+    Ok((observed, recognition))
+}
+
+/// Runs `blockworld recognize`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let views = crate::cli::view_args::parse_corner_views(&args.source.views)?;
+    check_paths(&args, &views)?;
     let opts = RecognizeOptions {
         node_budget: args.node_budget,
         time_budget_s: args.time_budget_s,
         ..RecognizeOptions::default()
     };
-    let recognition = recognize_with_progress(&observed, &pictures, &opts, &search_progress())
-        .with_context(|| format!("recognizing {}", args.dir.display()))?;
-    let recognition = check_answer_stands(recognition, &SettleParams::default()).recognition;
+    let (observed, recognition) =
+        recognize_folder(&args.dir, &views, args.source.from_truth, true, &opts)?;
     if let Some(debug) = &args.debug_dir {
         super::recognize_debug::write_debug_files(
             &args.dir,
