@@ -150,7 +150,9 @@ pub enum Decline {
 
 /// Each kind of [`Decline`] by a short name (for grouping answers, e.g. in `blockworld report`)
 /// and a phrase that its message holds and no other kind's message does.
-pub const DECLINE_KINDS: [(&str, &str); 9] = [
+/// The last kind is the pipeline's must-stand check (docs/recognizer.md "Reconstructions that
+/// must stand"), which declines after the recognizer has answered.
+pub const DECLINE_KINDS: [(&str, &str); 11] = [
     ("round parts", "curved chains"),
     ("trapezoidal block", "show a sloped face"),
     ("unclassified lines", "fall in no six-bit direction"),
@@ -159,7 +161,12 @@ pub const DECLINE_KINDS: [(&str, &str); 9] = [
     ("ambiguous", "the views do not decide"),
     ("hidden support", "has no visible support"),
     ("search budget spent", "search budget of"),
+    (
+        "imprecise place",
+        "not placed to an exact answer's precision",
+    ),
     ("view not explained", "not explained by catalog blocks"),
+    ("would not stand", "the reconstruction would not stand"),
 ];
 
 /// The short name of the [`Decline`] whose message is `reason` ([`DECLINE_KINDS`]); `"other"`
@@ -277,12 +284,19 @@ mod tests {
                 time_budget_s: 1.0,
                 detail: "10 nodes".into(),
             },
+            Decline::Imprecise {
+                block: 0,
+                shift_mm: 0.2,
+            },
             Decline::Unexplained {
                 view: view(),
                 check,
             },
         ];
-        let kinds: Vec<&str> = all.iter().map(|d| decline_kind(&d.to_string())).collect();
+        let mut kinds: Vec<&str> = all.iter().map(|d| decline_kind(&d.to_string())).collect();
+        kinds.push(decline_kind(
+            "the reconstruction would not stand (settled with rapier): block 1 overhang",
+        ));
         let names: Vec<&str> = DECLINE_KINDS.iter().map(|(n, _)| *n).collect();
         assert_eq!(kinds, names);
         assert_eq!(decline_kind("the disk is full"), "other");
