@@ -8,7 +8,9 @@
 
 use crate::physics::{check_standing, SettleParams};
 use crate::recognize::RecognizeOptions;
-use crate::recognize::{recognize_in_pictures, ObservedView, Recognition, RecognizeError};
+use crate::recognize::{
+    recognize_in_pictures, ObservedView, Recognition, RecognizeError, NOT_STANDING,
+};
 use crate::scene::ReconStatus;
 use std::time::Instant;
 
@@ -66,7 +68,7 @@ pub fn check_answer_stands(recognition: Recognition, params: &SettleParams) -> S
         blocks: Vec::new(),
         status: ReconStatus::Unsupported,
         reason: Some(format!(
-            "the reconstruction would not stand (settled with rapier as generate settles, tolerance {} mm, {} deg): {why}",
+            "{NOT_STANDING} (settled with rapier as generate settles, tolerance {} mm, {} deg): {why}",
             params.drift_tol_mm, params.turn_tol_deg
         )),
         layers: Vec::new(),
@@ -116,6 +118,7 @@ mod tests {
             why.contains("block 1 (b15) moves") && why.contains("hanging in the air"),
             "{why}"
         );
+        assert_eq!(crate::recognize::decline_kind(&why), "would not stand");
         assert_eq!(falls.recognition.evidence.hypothesis.len(), 2);
         assert_eq!(falls.declined_answer.unwrap().blocks.len(), 2);
     }

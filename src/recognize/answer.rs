@@ -148,6 +148,10 @@ pub enum Decline {
     },
 }
 
+/// How the pipeline's must-stand check opens its decline (docs/recognizer.md "Reconstructions
+/// that must stand"): one phrase for the message and for [`DECLINE_KINDS`].
+pub const NOT_STANDING: &str = "the reconstruction would not stand";
+
 /// Each kind of [`Decline`] by a short name (for grouping answers, e.g. in `blockworld report`)
 /// and a phrase that its message holds and no other kind's message does.
 /// The last kind is the pipeline's must-stand check (docs/recognizer.md "Reconstructions that
@@ -166,7 +170,7 @@ pub const DECLINE_KINDS: [(&str, &str); 11] = [
         "not placed to an exact answer's precision",
     ),
     ("view not explained", "not explained by catalog blocks"),
-    ("would not stand", "the reconstruction would not stand"),
+    ("would not stand", NOT_STANDING),
 ];
 
 /// The short name of the [`Decline`] whose message is `reason` ([`DECLINE_KINDS`]); `"other"`

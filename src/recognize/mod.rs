@@ -45,7 +45,7 @@ mod tests;
 
 pub use answer::{
     decline_kind, Evidence, ObservedView, Recognition, RecognizeError, RecognizeOptions,
-    DECLINE_KINDS,
+    DECLINE_KINDS, NOT_STANDING,
 };
 pub use answer::{DEFAULT_NODE_BUDGET, DEFAULT_TIME_BUDGET_S};
 pub use budget::{SearchBudget, SearchProgress};
