@@ -113,6 +113,22 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp.{}.{unique:016x}", std::process::id()))
 }
 
+/// Longest echo of a number in a message, in characters, before [`echo_number`] switches to
+/// scientific form.
+pub const MAX_ECHO_CHARS: usize = 20;
+
+/// `value` as a message echoes it: as written by `{}` when that is at most [`MAX_ECHO_CHARS`]
+/// characters (`95`, `0.25`), else in scientific form (`1e300`, `-1.5e-300`), so an
+/// out-of-range number never fills the terminal with its hundreds of digits.
+pub fn echo_number(value: f64) -> String {
+    let plain = value.to_string();
+    if plain.len() <= MAX_ECHO_CHARS {
+        plain
+    } else {
+        format!("{value:e}")
+    }
+}
+
 /// Reads a UTF-8 text file (scene, camera, drawing) with errors a user can act on: a leading
 /// byte-order mark is named as such (JSON forbids it; many Windows editors add it) and invalid
 /// UTF-8 gives the byte offset of the first bad byte. Both are `InvalidData` errors.
@@ -162,6 +178,15 @@ pub fn text_from_bytes(bytes: Vec<u8>) -> std::io::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn echoed_numbers_are_short_whatever_their_size() {
+        assert_eq!(echo_number(95.0), "95");
+        assert_eq!(echo_number(-0.25), "-0.25");
+        assert_eq!(echo_number(1e300), "1e300");
+        assert_eq!(echo_number(-1.5e-300), "-1.5e-300");
+        assert!(echo_number(f64::MAX).len() <= 2 * MAX_ECHO_CHARS);
+    }
 
     #[test]
     fn both_syncs_write_the_same_bytes_and_leave_no_temporary_file() {

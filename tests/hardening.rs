@@ -486,3 +486,26 @@ fn render_and_vertices_log_progress_lines_when_not_on_a_terminal() {
     ]);
     assert!(!stderr(&o).contains("steps"), "{}", stderr(&o));
 }
+
+/// Row 12a of docs/limits.md's render bounds: `--downsample 4` of an 8x8 render writes a 2x2
+/// picture; it is refused before rendering, naming both flags and the smallest size that works.
+/// Row 11b/d: an out-of-range render option names only its own flag and echoes the number short.
+#[test]
+fn render_options_name_their_own_flag_and_keep_pictures_at_least_8_px() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    let o = out.to_string_lossy().into_owned();
+    let one = scene("single_cube.json");
+    let args = ["render", &one, "--views", "ne", "-o", &o];
+    let err = fails_with_2(&blockworld(args.iter().chain(&[
+        "--downsample",
+        "4",
+        "--size",
+        "8x8",
+    ])));
+    assert!(err.contains("2x2 px") && err.contains("32x32"), "{err}");
+    assert!(!out.exists(), "nothing written");
+    let err = fails_with_2(&blockworld(args.iter().chain(&["--elevation", "1e300"])));
+    assert!(err.contains("--elevation 1e300 is out of range"), "{err}");
+    assert!(!err.contains("--fov") && err.len() < 200, "{err}");
+}

@@ -156,10 +156,7 @@ impl ViewArgs {
             downsample: self.downsample,
             photo: self.photo_options()?,
         };
-        opts.validate().context(
-            "--elevation, --fov, --pixel-aspect, --msaa, --noise, --size, --downsample, \
-             --light-jitter, --block-albedo or --sensor-*",
-        )?;
+        opts.validate()?;
         Ok(opts)
     }
 

@@ -15,6 +15,7 @@ use crate::camera::{Camera, CameraOptions, CornerView, Projection, DEPTH_UNITS_P
 
 use crate::drawing::LineDrawing;
 use crate::geom::DVec3;
+use crate::io::echo_number;
 use crate::linedraw;
 use crate::scene::Scene;
 use image::{GrayImage, ImageBuffer, Luma};
@@ -63,62 +64,86 @@ fn is_one(v: &u32) -> bool {
     *v == 1
 }
 
+/// Narrowest side, in px, of a picture blockworld writes (after `--downsample`): the vision
+/// front end needs a few pixels either side of a line, and a smaller picture shows no block.
+pub const MIN_PICTURE_SIDE_PX: u32 = 8;
+
 impl RenderOptions {
     /// Checks the options every renderer can take, whatever its device (the one home of these
-    /// bounds; the command line and the dataset writer call it): a non-empty picture, an
+    /// bounds; the command line and the dataset writer call it): a written picture (the
+    /// rendered one after `downsample`) of at least [`MIN_PICTURE_SIDE_PX`] a side, an
     /// elevation of 1..=89 degrees, a field of view of 1..=170 degrees, a pixel aspect of
     /// 0.1..=10, MSAA 1 or 4 (the only counts lavapipe offers), sensor noise of 0..=128 gray
-    /// levels and a framing margin in [0, 0.5).
+    /// levels and a framing margin in [0, 0.5). Each error names the one flag at fault and the
+    /// values it takes.
     pub fn validate(&self) -> Result<(), RenderError> {
+        self.validate_size()?;
         let c = &self.camera;
         let bad = |what: String| Err(RenderError::Options(what));
-        if c.size_px[0] == 0 || c.size_px[1] == 0 {
-            return bad(format!(
-                "picture size {}x{} px has a zero side",
-                c.size_px[0], c.size_px[1]
-            ));
-        }
         if !(1.0..=89.0).contains(&c.elevation_deg) {
             return bad(format!(
-                "elevation {} deg is out of range; use 1..=89",
-                c.elevation_deg
+                "--elevation {} is out of range; use 1..=89 degrees",
+                echo_number(c.elevation_deg)
             ));
         }
         if let Projection::Perspective { fov_y_deg } = c.projection {
             if !(1.0..=170.0).contains(&fov_y_deg) {
                 return bad(format!(
-                    "field of view {fov_y_deg} deg is out of range; use 1..=170"
+                    "--fov {} is out of range; use 1..=170 degrees",
+                    echo_number(fov_y_deg)
                 ));
             }
         }
         if !(0.1..=10.0).contains(&c.pixel_aspect) {
             return bad(format!(
-                "pixel aspect {} is out of range; use 0.1..=10",
-                c.pixel_aspect
+                "--pixel-aspect {} is out of range; use 0.1..=10",
+                echo_number(c.pixel_aspect)
             ));
         }
         if !(0.0..0.5).contains(&c.margin) {
-            return bad(format!("margin {} is out of range; use [0, 0.5)", c.margin));
+            return bad(format!(
+                "framing margin {} is out of range; use [0, 0.5)",
+                echo_number(c.margin)
+            ));
         }
         if self.msaa != 1 && self.msaa != 4 {
             return bad(format!(
-                "msaa {} is not supported; lavapipe offers 1 or 4",
+                "--msaa {} is not supported; use 1 or 4 (the counts lavapipe offers)",
                 self.msaa
             ));
         }
         if !(0.0..=128.0).contains(&self.noise_sigma) {
             return bad(format!(
-                "noise {} is out of range; use 0..=128 gray levels",
-                self.noise_sigma
-            ));
-        }
-        if ![1, 2, 4].contains(&self.downsample) || c.size_px.iter().any(|s| *s < self.downsample) {
-            return bad(format!(
-                "downsample {} is not supported for a {}x{} picture; use 1, 2 or 4",
-                self.downsample, c.size_px[0], c.size_px[1]
+                "--noise {} is out of range; use 0..=128 gray levels",
+                echo_number(self.noise_sigma)
             ));
         }
         self.photo.validate().map_err(RenderError::Options)
+    }
+
+    /// The size part of [`RenderOptions::validate`]: `--downsample` 1, 2 or 4, and the written
+    /// picture at least [`MIN_PICTURE_SIDE_PX`] a side.
+    fn validate_size(&self) -> Result<(), RenderError> {
+        let [w, h] = self.camera.size_px;
+        let d = self.downsample;
+        if ![1, 2, 4].contains(&d) {
+            return Err(RenderError::Options(format!(
+                "--downsample {d} is not supported; use 1, 2 or 4"
+            )));
+        }
+        let min = MIN_PICTURE_SIDE_PX;
+        if w / d < min || h / d < min {
+            return Err(RenderError::Options(format!(
+                "--size {w}x{h} with --downsample {d} writes a {}x{} px picture, below the \
+                 {min} px a side blockworld writes; use a --size of at least {}x{} or a smaller \
+                 --downsample",
+                w / d,
+                h / d,
+                min * d,
+                min * d
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -169,8 +194,8 @@ pub enum RenderError {
     /// The device could not be created, or a GPU operation failed.
     #[error("GPU error: {0}")]
     Gpu(String),
-    /// Options that cannot be rendered (size, MSAA count).
-    #[error("invalid render options: {0}")]
+    /// Options that cannot be rendered (size, MSAA count); the text names the flag at fault.
+    #[error("{0}")]
     Options(String),
 }
 

@@ -193,7 +193,7 @@ pub fn read_model(path: &Path, truncation: Truncation) -> anyhow::Result<Scene> 
             .with_context(|| format!("reading {}", path.display()));
     };
     let read = |p: &Path| {
-        std::fs::read_to_string(p).with_context(|| {
+        blockworld::io::read_text(p).with_context(|| {
             format!("reading {} (Appendix B data files come in pairs: PREFIX_vertices.txt and PREFIX_connections.txt)", p.display())
         })
     };

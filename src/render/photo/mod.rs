@@ -20,6 +20,7 @@ use super::{Gray16Image, Renderer};
 use crate::camera::{Camera, CornerView};
 use crate::drawing::LineDrawing;
 use crate::geom::DVec3;
+use crate::io::echo_number;
 use crate::scene::Scene;
 use image::GrayImage;
 use sensor::{RadianceImage, SensorModel};
@@ -90,14 +91,16 @@ impl PhotoOptions {
     pub fn validate(&self) -> Result<(), String> {
         if !(0.0..=45.0).contains(&self.light_jitter_deg) {
             return Err(format!(
-                "light jitter {} deg is out of range; use 0..=45",
-                self.light_jitter_deg
+                "--light-jitter {} is out of range; use 0..=45 degrees",
+                echo_number(self.light_jitter_deg)
             ));
         }
         let [lo, hi] = self.block_albedo_range;
         if !(0.05..=1.0).contains(&lo) || !(0.05..=1.0).contains(&hi) || lo > hi {
             return Err(format!(
-                "block albedo range [{lo}, {hi}] is invalid; use 0.05 <= lo <= hi <= 1"
+                "--block-albedo {},{} is invalid; use LO,HI with 0.05 <= LO <= HI <= 1",
+                echo_number(lo),
+                echo_number(hi)
             ));
         }
         self.sensor.validate()

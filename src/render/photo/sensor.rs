@@ -6,6 +6,7 @@
 //! Pure functions on plain buffers, no GPU: the renderer hands over linear radiance in [0, 1]
 //! (rows top to bottom) and receives the 8-bit picture.
 
+use crate::io::echo_number;
 use image::{GrayImage, Luma};
 
 /// Linear radiance per pixel, 0 = black, 1 = the brightest level the sensor records; rows top to
@@ -84,7 +85,7 @@ impl SensorModel {
         let checks = [
             ("blur", self.blur_sigma_px, 0.0, 10.0, "0..=10 px"),
             (
-                "read noise",
+                "read-noise",
                 self.read_noise_e,
                 0.0,
                 1e4,
@@ -95,13 +96,18 @@ impl SensorModel {
         ];
         for (what, v, lo, hi, range) in checks {
             if !(lo..=hi).contains(&v) {
-                return Err(format!("sensor {what} {v} is out of range; use {range}"));
+                return Err(format!(
+                    "--sensor-{what} {} is out of range; use {range}",
+                    echo_number(v)
+                ));
             }
         }
         let w = self.full_well_e;
         if !(w == 0.0 || (100.0..=1e7).contains(&w)) {
             return Err(format!(
-                "sensor full well {w} electrons is out of range; use 0 (no shot noise) or 100..=1e7"
+                "--sensor-full-well {} is out of range; use 0 (no shot noise) or 100..=1e7 \
+                 electrons",
+                echo_number(w)
             ));
         }
         Ok(())
@@ -782,11 +788,11 @@ mod tests {
             gamma: 0.0,
             ..SensorModel::default()
         };
-        assert!(bad.validate().unwrap_err().contains("gamma"));
+        assert!(bad.validate().unwrap_err().contains("--sensor-gamma"));
         let bad = SensorModel {
             full_well_e: 5.0,
             ..SensorModel::default()
         };
-        assert!(bad.validate().unwrap_err().contains("full well"));
+        assert!(bad.validate().unwrap_err().contains("--sensor-full-well"));
     }
 }
