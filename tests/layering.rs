@@ -80,6 +80,7 @@ const EXTERNAL_HOMES: &[(&str, &[&str])] = &[
     ("clap", &["cli"]),
     ("anyhow", &["cli"]),
     ("gltf", &["export"]),
+    ("rerun", &["export/rrd"]),
     ("indicatif", &["cli"]),
     (
         "libc",

@@ -23,6 +23,21 @@ pub fn read_picture(path: &Path) -> anyhow::Result<GrayImage> {
     Ok(dec.gray)
 }
 
+/// Decodes a 16-bit PNG of a scene folder (`depth_<v>.png`, `ids_<v>.png`) into its width,
+/// height and samples.
+pub fn read_gray16(path: &Path) -> anyhow::Result<(u32, u32, Vec<u16>)> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+        .with_context(|| format!("{}: not a PNG; re-generate the scene", path.display()))?;
+    let image::DynamicImage::ImageLuma16(g) = img else {
+        anyhow::bail!(
+            "{}: not a 16-bit gray PNG; re-generate the scene",
+            path.display()
+        );
+    };
+    Ok((g.width(), g.height(), g.into_raw()))
+}
+
 /// Reads and checks a `camera_<view>.json`.
 pub fn read_camera(path: &Path) -> anyhow::Result<Camera> {
     let text =

@@ -8,6 +8,7 @@ mod docs;
 pub mod files;
 mod headless;
 pub mod progress;
+pub mod rrd;
 pub mod view_args;
 
 use clap::{Parser, Subcommand};

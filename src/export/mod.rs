@@ -22,6 +22,8 @@ pub mod masks;
 mod mesh;
 pub mod opencv;
 mod overlay;
+#[cfg(feature = "rrd")]
+pub mod rrd;
 mod thesis;
 pub mod wireframe;
 

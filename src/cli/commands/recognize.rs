@@ -45,6 +45,11 @@ pub struct Args {
     /// the budget (the node budget, the same on every machine, usually ends it first).
     #[arg(long, default_value_t = RecognizeOptions::default().time_budget_s)]
     pub time_budget_s: f64,
+    /// The recording holds the reconstruction beside the truth when the folder has a
+    /// `scene.json` (a dataset's scene folder does), the views the recognizer read, and the
+    /// drawings it recognized from.
+    #[command(flatten)]
+    pub rrd: crate::cli::rrd::RrdArgs,
 }
 
 /// The search's progress on stderr, at most once a second once it has run for one: a search
@@ -170,6 +175,7 @@ pub(super) fn recognize_folder(
 pub fn run(args: Args) -> anyhow::Result<()> {
     let views = crate::cli::view_args::parse_corner_views(&args.source.views)?;
     check_paths(&args, &views)?;
+    args.rrd.check(&[&args.output])?;
     let opts = RecognizeOptions {
         node_budget: args.node_budget,
         time_budget_s: args.time_budget_s,
@@ -193,6 +199,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let recon = reconstruction(&name, &recognition, 0.5);
     blockworld::io::write_atomic(&args.output, reconstruction_to_json(&recon).as_bytes())
         .with_context(|| format!("writing {}", args.output.display()))?;
+    #[cfg(feature = "rrd")]
+    if let Some(path) = &args.rrd.rrd {
+        crate::cli::rrd::write_recognize_recording(path, &args.dir, &observed, &recon)?;
+    }
     outln!(
         "{}: {} blocks in {} layers -> {}{}",
         args.dir.display(),

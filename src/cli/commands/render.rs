@@ -19,10 +19,13 @@ pub struct Args {
     pub out: PathBuf,
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub rrd: crate::cli::rrd::RrdArgs,
 }
 
 /// Runs `blockworld render`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    args.rrd.check(&[&args.scene])?;
     let views = args.view.some_corner_views()?;
     let opts = args.view.render_options()?;
     let backend = args.view.backend()?;
@@ -44,6 +47,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })
     .with_context(|| format!("rendering {}", args.scene.display()))?;
     write_and_list(&args.out, &rendered)?;
+    #[cfg(feature = "rrd")]
+    if let Some(path) = &args.rrd.rrd {
+        write_recording(path, &scene, &rendered)?;
+    }
     if let Some(draw) = opts.look_draw(scene.blocks.len()) {
         let path = args.out.join(blockworld::render::photo::varied::LOOK_FILE);
         let text = draw.to_json();
@@ -69,4 +76,40 @@ pub fn write_and_list(out: &Path, views: &[RenderedView]) -> anyhow::Result<()> 
         outln!("wrote {}  sha256 {}", out.join(&f.name).display(), f.sha256)?;
     }
     Ok(())
+}
+
+/// The recording of `render --rrd`: the scene's blocks and every rendered view.
+#[cfg(feature = "rrd")]
+fn write_recording(
+    path: &Path,
+    scene: &blockworld::scene::Scene,
+    rendered: &[RenderedView],
+) -> anyhow::Result<()> {
+    use blockworld::export::rrd::{Picture, RecordingData, ViewData};
+    let views = rendered
+        .iter()
+        .map(|v| ViewData {
+            camera: &v.camera,
+            picture: Some(Picture {
+                size_px: [v.gray.width(), v.gray.height()],
+                pixels: v.gray.as_raw(),
+            }),
+            depth: Some(Picture {
+                size_px: [v.depth.width(), v.depth.height()],
+                pixels: v.depth.as_raw(),
+            }),
+            ids: Some(Picture {
+                size_px: [v.ids.width(), v.ids.height()],
+                pixels: v.ids.as_raw(),
+            }),
+            lines: Some(&v.lines),
+        })
+        .collect();
+    let data = RecordingData {
+        name: &scene.name,
+        truth: Some(scene),
+        recognized: None,
+        views,
+    };
+    crate::cli::rrd::write_recording(path, &data)
 }

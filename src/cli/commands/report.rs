@@ -84,20 +84,6 @@ fn read_answer(
     Ok(Some((result.clone(), recon, seen)))
 }
 
-/// Decodes a 16-bit PNG of the dataset into its size and samples.
-fn read_gray16(path: &Path) -> anyhow::Result<(u32, u32, Vec<u16>)> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-        .with_context(|| format!("{}: not a PNG; re-generate the scene", path.display()))?;
-    let image::DynamicImage::ImageLuma16(g) = img else {
-        bail!(
-            "{}: not a 16-bit gray PNG; re-generate the scene",
-            path.display()
-        );
-    };
-    Ok((g.width(), g.height(), g.into_raw()))
-}
-
 /// Copies the view's picture and writes its depth and id pictures made visible; returns the
 /// picture's size.
 fn write_view_pictures(
@@ -111,14 +97,14 @@ fn write_view_pictures(
         std::fs::read(&picture).with_context(|| format!("reading {}", picture.display()))?;
     out.write(&format!("{id}/view_{v}.png"), &bytes)?;
     let depth_path = dir.join(format!("depth_{v}.png"));
-    let (w, h, depth) = read_gray16(&depth_path)?;
+    let (w, h, depth) = crate::cli::files::read_gray16(&depth_path)?;
     let depth = depth_picture(w, h, &depth).context("depth picture")?;
     out.write(
         &format!("{id}/depth_{v}.png"),
         &blockworld::output::encode_png_flat(&depth.into())?,
     )?;
     let ids_path = dir.join(format!("ids_{v}.png"));
-    let (iw, ih, ids) = read_gray16(&ids_path)?;
+    let (iw, ih, ids) = crate::cli::files::read_gray16(&ids_path)?;
     let ids = ids_picture(iw, ih, &ids)
         .filter(|_| [iw, ih] == [w, h])
         .with_context(|| {
