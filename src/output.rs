@@ -42,16 +42,37 @@ pub fn write_rendered_views_with(
     views: &[RenderedView],
     sync: FileSync,
 ) -> std::io::Result<Vec<WrittenFile>> {
+    write_rendered_views_prefixed(dir, "", views, sync)
+}
+
+/// [`write_rendered_views_with`] with `prefix` before every file name (`f0003_` writes
+/// `f0003_view_ne.png`, ...): the rendered frames of a trajectory
+/// (docs/stability.md "Rendered frames"). The returned names carry the prefix.
+pub fn write_rendered_views_prefixed(
+    dir: &Path,
+    prefix: &str,
+    views: &[RenderedView],
+    sync: FileSync,
+) -> std::io::Result<Vec<WrittenFile>> {
     let mut written = Vec::with_capacity(views.len() * 5);
     for v in views {
         let name = v.camera.view.name();
         let files = [
-            (format!("view_{name}.png"), encode_png_gray8(&v.gray)?),
-            (format!("depth_{name}.png"), encode_png_depth(&v.depth)?),
-            (format!("ids_{name}.png"), encode_png_ids(&v.ids)?),
-            (format!("lines_{name}.json"), v.lines.to_json().into_bytes()),
             (
-                format!("camera_{name}.json"),
+                format!("{prefix}view_{name}.png"),
+                encode_png_gray8(&v.gray)?,
+            ),
+            (
+                format!("{prefix}depth_{name}.png"),
+                encode_png_depth(&v.depth)?,
+            ),
+            (format!("{prefix}ids_{name}.png"), encode_png_ids(&v.ids)?),
+            (
+                format!("{prefix}lines_{name}.json"),
+                v.lines.to_json().into_bytes(),
+            ),
+            (
+                format!("{prefix}camera_{name}.json"),
                 camera_json(&v.camera).into_bytes(),
             ),
         ];

@@ -168,3 +168,141 @@ fn bad_stability_options_exit_2_naming_the_fix() {
     let err = fails_with_2(&o);
     assert!(err.contains("--keep-unstable"), "{err}");
 }
+
+/// The files `generate --trajectory-views ne,sw --trajectory-every 4` writes for a trajectory
+/// of `frames` frames: frames 0, 4, 8, ... and the last, each view's five files.
+fn expected_frame_files(frames: usize) -> std::collections::BTreeSet<String> {
+    let mut chosen: Vec<usize> = (0..frames).step_by(4).collect();
+    if chosen.last() != Some(&(frames - 1)) {
+        chosen.push(frames - 1);
+    }
+    let mut names = std::collections::BTreeSet::new();
+    for k in chosen {
+        for v in ["ne", "sw"] {
+            for file in ["view_", "depth_", "ids_"].map(|f| format!("{f}{v}.png")) {
+                names.insert(format!("frames/f{k:04}_{file}"));
+            }
+            for file in ["lines_", "camera_"].map(|f| format!("{f}{v}.json")) {
+                names.insert(format!("frames/f{k:04}_{file}"));
+            }
+        }
+    }
+    names
+}
+
+/// Checks one scene folder's rendered frames against its manifest entry and its trajectory;
+/// returns whether its first and last frames differ in every ground-truth file.
+fn check_frames(folder: &Path, entry: &Value) -> bool {
+    let files = entry["files"].as_object().unwrap();
+    let listed: std::collections::BTreeSet<String> = files
+        .keys()
+        .filter(|k| k.starts_with("frames/"))
+        .cloned()
+        .collect();
+    let on_disk: std::collections::BTreeSet<String> = std::fs::read_dir(folder.join("frames"))
+        .unwrap()
+        .map(|f| format!("frames/{}", f.unwrap().file_name().to_string_lossy()))
+        .collect();
+    let scene = read_scene(&folder.join("scene.json")).unwrap();
+    let t = Trajectory::from_bytes(&std::fs::read(folder.join("trajectory.bin")).unwrap()).unwrap();
+    let last = t.frames.len() - 1;
+    assert_eq!(listed, expected_frame_files(t.frames.len()), "{entry}");
+    assert_eq!(on_disk, listed, "{}", folder.display());
+    for name in &listed {
+        let sha = blockworld::dataset::sha256_hex(&std::fs::read(folder.join(name)).unwrap());
+        assert_eq!(files[name], Value::String(sha), "{name} of {entry}");
+    }
+    let read = |k: usize, file: &str| std::fs::read(folder.join(format!("frames/f{k:04}_{file}")));
+    let mut moved = true;
+    for v in ["ne", "sw"] {
+        let camera_text =
+            String::from_utf8(read(last, &format!("camera_{v}.json")).unwrap()).unwrap();
+        assert_eq!(
+            read(0, &format!("camera_{v}.json")).unwrap(),
+            camera_text.as_bytes(),
+            "every frame is seen by one camera"
+        );
+        // The last frame's line drawing is the exact drawing of the blocks at its poses.
+        let camera = blockworld::camera::parse_camera_json(&camera_text).unwrap();
+        let posed = t.scene_at(&drawn(&scene), last).unwrap();
+        let exact = blockworld::linedraw::visible_line_drawing(&posed, &camera).to_json();
+        assert_eq!(
+            String::from_utf8(read(last, &format!("lines_{v}.json")).unwrap()).unwrap(),
+            exact,
+            "{} frame {last} {v}",
+            folder.display()
+        );
+        for kind in ["ids_", "depth_", "view_"].map(|f| format!("{f}{v}.png")) {
+            moved &= read(0, &kind).unwrap() != read(last, &kind).unwrap();
+        }
+        moved &= read(0, &format!("lines_{v}.json")).unwrap()
+            != read(last, &format!("lines_{v}.json")).unwrap();
+    }
+    moved
+}
+
+/// `--trajectory-views` renders frames 0, every 4th and the last of each trajectory with the
+/// ground truth of each frame, listed in the manifest with their sha256, the same bytes
+/// whatever `--jobs`; a falling scene's first and last frames differ in every file.
+#[test]
+fn rendered_frames_hold_each_frames_ground_truth_and_the_same_bytes_whatever_jobs() {
+    if !common::renderer_available() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    let frames = ["--trajectory-views", "ne,sw", "--size", "128x120"];
+    generate(&a, 6, &[&frames[..], &["--jobs", "1"]].concat());
+    generate(&b, 6, &[&frames[..], &["--jobs", "2"]].concat());
+    assert_same_tree(&a, &b);
+    let mut falls = 0;
+    for e in manifest(&a) {
+        let folder = a.join(e["id"].as_str().unwrap());
+        let moved = check_frames(&folder, &e);
+        if e["stable"] == false {
+            assert!(moved, "{}: first and last frames differ", folder.display());
+            falls += 1;
+        }
+    }
+    assert!(falls >= 2, "{falls} falling scenes of 6");
+    let options: Value =
+        serde_json::from_str(&std::fs::read_to_string(a.join("dataset.json")).unwrap()).unwrap();
+    assert_eq!(
+        options["stability"]["trajectory_views"],
+        serde_json::json!(["ne", "sw"])
+    );
+    assert_eq!(options["stability"]["trajectory_every"], 4);
+}
+
+/// Unknown views, `--trajectory-every 0` and more pictures per scene than the bound exit 2
+/// naming the flag, and write nothing.
+#[test]
+fn bad_frame_options_exit_2_naming_the_flag() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    for (extra, want) in [
+        (
+            &["--trajectory-views", "up"][..],
+            "--trajectory-views: unknown view \"up\"",
+        ),
+        (
+            &["--trajectory-views", "ne", "--trajectory-every", "0"][..],
+            "--trajectory-every 0",
+        ),
+        (
+            &["--trajectory-views", "ne,se,sw", "--trajectory-every", "2"][..],
+            "use --trajectory-every 3 or more",
+        ),
+        (
+            &["--trajectory-views", ""][..],
+            "--trajectory-views: name at least one",
+        ),
+    ] {
+        let args = [&["--keep-unstable", "--trajectory"][..], extra].concat();
+        let err = fails_with_2(&run_generate(&out, 2, &args));
+        assert!(err.contains(want), "{extra:?}: {err}");
+        assert!(!out.exists(), "{extra:?}: nothing written");
+    }
+    let err = fails_with_2(&run_generate(&out, 2, &["--trajectory-every", "2"]));
+    assert!(err.contains("--trajectory-views"), "{err}");
+}

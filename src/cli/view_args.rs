@@ -78,13 +78,21 @@ pub struct ViewArgs {
 pub fn parse_corner_views<'a>(
     names: impl IntoIterator<Item = &'a String>,
 ) -> anyhow::Result<Vec<CornerView>> {
+    parse_corner_views_of("--views", names)
+}
+
+/// [`parse_corner_views`] for the list given to `flag`, which the errors name.
+pub fn parse_corner_views_of<'a>(
+    flag: &str,
+    names: impl IntoIterator<Item = &'a String>,
+) -> anyhow::Result<Vec<CornerView>> {
     let mut views: Vec<CornerView> = Vec::new();
     for v in names {
         let view = CornerView::parse(v)
-            .with_context(|| format!("--views: unknown view {v:?}; use ne, se, sw, nw"))?;
+            .with_context(|| format!("{flag}: unknown view {v:?}; use ne, se, sw, nw"))?;
         if views.contains(&view) {
             bail!(
-                "--views: {} is given twice; name each view once",
+                "{flag}: {} is given twice; name each view once",
                 view.name()
             );
         }

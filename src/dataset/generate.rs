@@ -191,7 +191,7 @@ fn draw_once(
 }
 
 /// What a stability dataset keeps (docs/stability.md).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StabilityOptions {
     /// Share of scenes drawn to stand, 0 to 1; default 0.5 (`--stable-fraction`).
     pub stable_fraction: f64,
@@ -199,6 +199,9 @@ pub struct StabilityOptions {
     pub trajectory: bool,
     /// Write the fall as an animated glTF, `fall.glb` (`--trajectory` with `--gltf`).
     pub fall_gltf: bool,
+    /// Render chosen frames of each trajectory (`--trajectory-views`, `frames/`); needs
+    /// `trajectory`.
+    pub frames: Option<super::frames::TrajectoryFrames>,
 }
 
 impl Default for StabilityOptions {
@@ -207,6 +210,7 @@ impl Default for StabilityOptions {
             stable_fraction: 0.5,
             trajectory: false,
             fall_gltf: false,
+            frames: None,
         }
     }
 }

@@ -6,12 +6,13 @@
 //!
 //! Determinism: a scene's content depends only on its own seed, derived from (dataset seed,
 //! scene index), never on `--jobs` or the shard, so every way of producing a dataset gives the
-//! same bytes. `writer` and `wireframe` are the parts that do file I/O.
+//! same bytes. `writer`, `frames` and `wireframe` are the parts that do file I/O.
 
 mod bop_export;
 mod error;
 mod export_files;
 mod families;
+mod frames;
 mod generate;
 mod lock;
 mod manifest;
@@ -26,6 +27,9 @@ mod writer;
 pub use error::DatasetError;
 pub use export_files::views_of;
 pub use families::{family_scene, Family, GRID_MM, REASON_NOT_UNIFORM, REASON_UPPER_LARGER};
+pub use frames::{
+    frame_file_name, TrajectoryFrames, DEFAULT_FRAME_EVERY, FRAMES_DIR, MAX_FRAME_PICTURES,
+};
 pub use generate::{
     draw_scene, draw_stable_scene, scene_id, scene_seed, wants_stable, DrawnScene, SceneSpec,
     StabilityOptions, MAX_ATTEMPTS,

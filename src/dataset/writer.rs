@@ -170,6 +170,14 @@ fn dataset_json(opts: &DatasetOptions) -> Value {
             "trajectory_fps": crate::physics::TRAJECTORY_FPS,
             "fall_gltf": st.fall_gltf,
         });
+        // Listed only when asked for, so stability datasets without frames keep their file.
+        if let Some(f) = &st.frames {
+            v["stability"]["trajectory_views"] =
+                json!(f.views.iter().map(|v| v.name()).collect::<Vec<_>>());
+            v["stability"]["trajectory_every"] = json!(f.every);
+            v["stability"]["trajectory_frames"] =
+                json!("frames 0, every, 2 every, ... and the last: frames/f<frame>_<file>");
+        }
     }
     v
 }
@@ -203,6 +211,15 @@ fn check_options(opts: &DatasetOptions) -> Result<(), DatasetError> {
         return Err(DatasetError::Options(
             "at least one family is needed".into(),
         ));
+    }
+    if let Some(f) = opts.stability.as_ref().and_then(|s| s.frames.as_ref()) {
+        if !opts.stability.as_ref().is_some_and(|s| s.trajectory) {
+            return Err(DatasetError::Options(
+                "--trajectory-views needs --trajectory".into(),
+            ));
+        }
+        f.check(&opts.settle, &opts.render)
+            .map_err(DatasetError::Options)?;
     }
     if opts.jobs > MAX_JOBS {
         return Err(DatasetError::Options(format!(
@@ -321,6 +338,11 @@ fn produce_scene(
     let t = Instant::now();
     let mut files = write_scene_files(&scene_dir, spec, opts, &drawn.scene, &views)?;
     files.extend(write_fall_files(&scene_dir, spec, opts, &drawn)?);
+    let t_frames = Instant::now();
+    files.extend(super::frames::write_trajectory_frames(
+        &scene_dir, spec, opts, &drawn, renderer,
+    )?);
+    times.render_s += t_frames.elapsed().as_secs_f64();
     let expect = drawn.scene.expect.clone().unwrap_or(crate::scene::Expect {
         supported: true,
         reason: None,
@@ -334,7 +356,7 @@ fn produce_scene(
         supported: expect.supported,
         reason: expect.reason,
         attempts: drawn.attempts,
-        stable: opts.stability.map(|_| drawn.report.stable),
+        stable: opts.stability.as_ref().map(|_| drawn.report.stable),
         files,
     };
     // Written last and, by default, not synced: after a power loss a marker that did not reach
@@ -467,7 +489,8 @@ pub fn generate_dataset(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<GenerateSummary, DatasetError> {
     check_options(opts)?;
-    if !opts.views.is_empty() && renderers.is_empty() {
+    let frames = opts.stability.as_ref().is_some_and(|s| s.frames.is_some());
+    if (!opts.views.is_empty() || frames) && renderers.is_empty() {
         return Err(DatasetError::NoRenderer);
     }
     super::memory::keep_freed_pictures_in_heap();

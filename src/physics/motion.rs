@@ -175,6 +175,28 @@ pub enum TrajectoryError {
 }
 
 impl Trajectory {
+    /// Most frames a trajectory recorded under `params` can hold: one at the start, one every
+    /// `1 / fps` s up to the time limit, and a last one at the final step (122 for the default
+    /// 4 s at 30 Hz). Bounds the work of rendering frames (`generate --trajectory-views`).
+    pub fn max_frames(params: &SettleParams) -> usize {
+        (params.max_time_s.max(0.0) * TRAJECTORY_FPS).floor() as usize + 2
+    }
+
+    /// `scene` with every block at its pose of frame `k` (centre and rotation as a quaternion);
+    /// `None` when there is no frame `k` or its block count differs from the scene's.
+    pub fn scene_at(&self, scene: &Scene, k: usize) -> Option<Scene> {
+        let poses = self.frames.get(k)?;
+        if poses.len() != scene.blocks.len() {
+            return None;
+        }
+        let mut out = scene.clone();
+        for (b, (c, q)) in out.blocks.iter_mut().zip(poses) {
+            b.center_mm = *c;
+            b.orientation = crate::scene::Orientation::Quaternion(*q);
+        }
+        Some(out)
+    }
+
     /// The binary file (docs/stability.md "Trajectories"), little-endian: the magic
     /// `BWTRAJ01`, u32 blocks, u32 frames, f32 fps, f32 time of each frame (s), then per frame
     /// and block seven f32: centre x, y, z (mm) and rotation x, y, z, w.

@@ -369,16 +369,22 @@ impl Renderer {
         views: &[CornerView],
         opts: &RenderOptions,
     ) -> Result<Vec<RenderedView>, RenderError> {
-        let mut rendered = self.render_views_pixels(scene, views, opts)?;
-        for v in &mut rendered {
-            v.lines = linedraw::visible_line_drawing_with_progress(
-                scene,
-                &v.camera,
-                &linedraw::TruthTolerances::default(),
-                &|_, _| {},
-            );
-        }
-        Ok(rendered)
+        let rendered = self.render_views_pixels(scene, views, opts)?;
+        Ok(with_exact_lines(scene, rendered))
+    }
+
+    /// [`Renderer::render_views_pixels_framed`] with each view's exact line drawing: the frames
+    /// of a fall seen by the cameras of the scene at rest-start, each with its whole ground
+    /// truth (`generate --trajectory-views`, docs/stability.md "Rendered frames").
+    pub fn render_views_framed(
+        &self,
+        scene: &Scene,
+        views: &[CornerView],
+        opts: &RenderOptions,
+        frame_mm: &[DVec3],
+    ) -> Result<Vec<RenderedView>, RenderError> {
+        let rendered = self.render_views_pixels_framed(scene, views, opts, frame_mm)?;
+        Ok(with_exact_lines(scene, rendered))
     }
 
     /// Adapter name and backend, for logs and benchmark tables.
@@ -408,6 +414,20 @@ impl Renderer {
         }
         Ok(())
     }
+}
+
+/// The views with their `lines` set to the exact visible line drawing of `scene` in each
+/// view's camera.
+fn with_exact_lines(scene: &Scene, mut rendered: Vec<RenderedView>) -> Vec<RenderedView> {
+    for v in &mut rendered {
+        v.lines = linedraw::visible_line_drawing_with_progress(
+            scene,
+            &v.camera,
+            &linedraw::TruthTolerances::default(),
+            &|_, _| {},
+        );
+    }
+    rendered
 }
 
 /// The triangles of `scene` seen by `camera`; a face the renderer cannot draw is an options

@@ -10,7 +10,7 @@ use crate::cli::view_args::ViewArgs;
 use anyhow::{bail, Context};
 use blockworld::dataset::{
     generate_dataset, DatasetError, DatasetOptions, Family, GenerateSummary, SceneFileEncoder,
-    Shard, StabilityOptions,
+    Shard, StabilityOptions, TrajectoryFrames, DEFAULT_FRAME_EVERY,
 };
 use blockworld::export::scene_to_glb;
 use blockworld::io::FileSync;
@@ -59,6 +59,17 @@ pub struct Args {
     /// `trajectory.bin`; with --gltf also the fall as an animated glTF, `fall.glb`.
     #[arg(long, requires = "keep_unstable")]
     pub trajectory: bool,
+    /// With --trajectory: draw these views (comma separated: ne, se, sw, nw) at every
+    /// --trajectory-every-th frame of each trajectory and at its last, with the cameras of the
+    /// scene's still views and the same ground truth (depth, ids, exact lines, camera), into
+    /// frames/f<frame>_<file>, listed in the manifest. Line art only. At most 128 pictures
+    /// (frames x views) per scene; a trajectory has at most 122 frames (docs/limits.md
+    /// "Stability frames").
+    #[arg(long, requires = "trajectory", value_delimiter = ',')]
+    pub trajectory_views: Vec<String>,
+    /// With --trajectory-views: draw every Nth frame, 1 = all [default: 4].
+    #[arg(long, requires = "trajectory_views")]
+    pub trajectory_every: Option<u32>,
     /// Force every file to disk before it is renamed into place (default: none but the
     /// manifest; a resume re-hashes every file, which finds what a power loss damaged).
     #[arg(long)]
@@ -160,6 +171,25 @@ fn stability_options(args: &Args) -> anyhow::Result<Option<StabilityOptions>> {
         stable_fraction: f,
         trajectory: args.trajectory,
         fall_gltf: args.trajectory && args.gltf,
+        frames: trajectory_frames(args)?,
+    }))
+}
+
+/// The frames of `--trajectory-views` and `--trajectory-every`, when views are named.
+fn trajectory_frames(args: &Args) -> anyhow::Result<Option<TrajectoryFrames>> {
+    let named: Vec<String> = args
+        .trajectory_views
+        .iter()
+        .filter(|v| !v.trim().is_empty())
+        .cloned()
+        .collect();
+    if named.is_empty() && args.trajectory_views.is_empty() {
+        return Ok(None);
+    }
+    let views = crate::cli::view_args::parse_corner_views_of("--trajectory-views", &named)?;
+    Ok(Some(TrajectoryFrames {
+        views,
+        every: args.trajectory_every.unwrap_or(DEFAULT_FRAME_EVERY),
     }))
 }
 
@@ -196,21 +226,25 @@ pub fn checked_options(
 /// worker, at most [`MAX_RENDERERS`], so workers render side by side instead of waiting for one
 /// device (docs/benchmarks.md "Benchmarks"); none when no views are asked for.
 pub fn renderers_for(args: &ViewArgs, jobs: usize) -> anyhow::Result<Vec<Renderer>> {
+    if args.corner_views()?.is_empty() {
+        return Ok(Vec::new());
+    }
+    open_renderers(args, jobs)
+}
+
+/// [`renderers_for`] whatever `--views` says (`--trajectory-views` draws with `--views ""`).
+fn open_renderers(args: &ViewArgs, jobs: usize) -> anyhow::Result<Vec<Renderer>> {
     let workers = if jobs == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
         jobs
     };
-    let Some(first) = renderer_for(args)? else {
-        return Ok(Vec::new());
-    };
-    let mut renderers = vec![first];
+    let mut renderers = vec![open_renderer(args)?];
     while renderers.len() < workers.clamp(1, MAX_RENDERERS) {
         // A device that will not open a second time (an exclusive GPU) leaves the workers
         // sharing the ones there are.
-        match renderer_for(args) {
-            Ok(Some(r)) => renderers.push(r),
-            Ok(None) => break,
+        match open_renderer(args) {
+            Ok(r) => renderers.push(r),
             Err(e) => {
                 tracing::info!("rendering through {} device(s): {e:#}", renderers.len());
                 break;
@@ -229,16 +263,26 @@ pub fn renderer_for(args: &ViewArgs) -> anyhow::Result<Option<Renderer>> {
     if args.corner_views()?.is_empty() {
         return Ok(None);
     }
+    open_renderer(args).map(Some)
+}
+
+/// A renderer on the backend of `args`, checked against its picture size.
+fn open_renderer(args: &ViewArgs) -> anyhow::Result<Renderer> {
     let r = Renderer::new(args.backend()?)
         .context("creating the renderer (pass --views \"\" to write scene.json only)")?;
     r.check_options(&args.render_options()?).context("--size")?;
-    Ok(Some(r))
+    Ok(r)
 }
 
 /// Runs `blockworld generate`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = dataset_options(&args)?;
-    let renderers = renderers_for(&args.view, args.jobs)?;
+    let frames = opts.stability.as_ref().is_some_and(|s| s.frames.is_some());
+    let renderers = if opts.views.is_empty() && frames {
+        open_renderers(&args.view, args.jobs)?
+    } else {
+        renderers_for(&args.view, args.jobs)?
+    };
     let total = opts.shard.len(opts.count);
     let started = Instant::now();
     let summary = with_progress("generate", "scenes", total, |progress| {
