@@ -509,3 +509,61 @@ fn render_options_name_their_own_flag_and_keep_pictures_at_least_8_px() {
     assert!(err.contains("--elevation 1e300 is out of range"), "{err}");
     assert!(!err.contains("--fov") && err.len() < 200, "{err}");
 }
+
+/// Regression: a blank picture (or a drawing with no lines) was answered `ok` with 0 blocks;
+/// an answer without blocks explains nothing, so it declines.
+#[test]
+fn recognize_declines_views_that_show_no_block() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = common::root().join("tests/fixtures/vision/single_cube");
+    std::fs::copy(
+        fixture.join("camera_ne.json"),
+        dir.path().join("camera_ne.json"),
+    )
+    .unwrap();
+    image::GrayImage::from_pixel(512, 480, image::Luma([255]))
+        .save(dir.path().join("view_ne.png"))
+        .unwrap();
+    write(
+        dir.path(),
+        "lines_ne.json",
+        br#"{"points": [], "lines": []}"#,
+    );
+    let d = dir.path().to_string_lossy().into_owned();
+    let recon = dir.path().join("recon.json");
+    for extra in [None, Some("--from-truth")] {
+        let mut args = vec!["recognize", &d, "--views", "ne", "-o"];
+        args.push(recon.to_str().unwrap());
+        args.extend(extra);
+        let out = common::ok(blockworld(&args));
+        assert!(
+            out.contains("0 blocks") && out.contains("no block found"),
+            "{out}"
+        );
+        let text = std::fs::read_to_string(&recon).unwrap();
+        assert!(text.contains("\"unsupported\""), "{text}");
+    }
+}
+
+/// Regression: `compare --repeat 0` and `bench recognize --repeat 0` ran once as if given 1;
+/// every count of timed runs (and the benchmarks' scene counts) takes at least 1, and 0 is
+/// refused before any work, naming the flag.
+#[test]
+fn counts_of_runs_refuse_zero_naming_the_flag() {
+    for args in [
+        &["compare", "--repeat", "0"][..],
+        &["bench", "recognize", "--repeat", "0"],
+        &["bench", "settle", "--repeat", "0"],
+        &["bench", "vision", "--repeat", "0"],
+        &["bench", "peers", "--rounds", "0"],
+        &["bench", "generate", "--count", "0"],
+        &["bench", "accuracy", "--count", "0"],
+    ] {
+        let err = fails_with_2(&blockworld(args));
+        let flag = args[args.len() - 2];
+        assert!(
+            err.contains(flag) && err.contains("give at least 1"),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -81,6 +81,21 @@ pub enum Command {
     Docs(docs::Args),
 }
 
+/// clap's parser of a count that must be at least 1 (`--repeat`, `--rounds`, `--count` of the
+/// benchmarks): 0 would run nothing and print an empty table, so it is refused before any work
+/// (exit 2, clap naming the flag).
+pub fn at_least_one<T>(text: &str) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + From<u8>,
+    T::Err: std::fmt::Display,
+{
+    match text.parse::<T>() {
+        Ok(n) if n < T::from(1) => Err("0 runs nothing; give at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(format!("{e}; give a whole number of at least 1")),
+    }
+}
+
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {

@@ -138,6 +138,14 @@ pub enum Decline {
         /// Length of the group's fitted horizontal shift, mm.
         shift_mm: f64,
     },
+    /// No block in any view: an answer without blocks explains nothing.
+    #[error("no block found in the views ({points} points, {lines} lines drawn in all): an answer without blocks explains nothing; give views that show the blocks, pictures at least 8 px a side (docs/limits.md \"Render\")")]
+    NoBlocks {
+        /// Points of all views' drawings.
+        points: usize,
+        /// Lines of all views' drawings.
+        lines: usize,
+    },
     /// The best hypothesis does not explain a view.
     #[error("view {view} not explained by catalog blocks: {} observed points and {} lines unexplained, {} points and {} lines drawn in excess (shapes outside the catalog or occlusion the views cannot resolve)", .check.unexplained_points, .check.unexplained_lines, .check.extra_points, .check.extra_lines)]
     Unexplained {
@@ -156,7 +164,7 @@ pub const NOT_STANDING: &str = "the reconstruction would not stand";
 /// and a phrase that its message holds and no other kind's message does.
 /// The last kind is the pipeline's must-stand check (docs/recognizer.md "Reconstructions that
 /// must stand"), which declines after the recognizer has answered.
-pub const DECLINE_KINDS: [(&str, &str); 11] = [
+pub const DECLINE_KINDS: [(&str, &str); 12] = [
     ("round parts", "curved chains"),
     ("trapezoidal block", "show a sloped face"),
     ("unclassified lines", "fall in no six-bit direction"),
@@ -170,6 +178,7 @@ pub const DECLINE_KINDS: [(&str, &str); 11] = [
         "not placed to an exact answer's precision",
     ),
     ("view not explained", "not explained by catalog blocks"),
+    ("no blocks", "no block found in the views"),
     ("would not stand", NOT_STANDING),
 ];
 
@@ -295,6 +304,10 @@ mod tests {
             Decline::Unexplained {
                 view: view(),
                 check,
+            },
+            Decline::NoBlocks {
+                points: 0,
+                lines: 0,
             },
         ];
         let mut kinds: Vec<&str> = all.iter().map(|d| decline_kind(&d.to_string())).collect();

@@ -140,6 +140,11 @@ pub fn recognize_with_progress(
         ev.extra_lines = c.extra_lines;
     }
     evidence.hypothesis = h.blocks.clone();
+    if h.blocks.is_empty() {
+        let lines = views.iter().map(|v| v.drawing.lines.len()).sum();
+        let d = Decline::NoBlocks { points, lines };
+        return Ok(Recognition::declined(d, evidence));
+    }
     if let Some(d) = final_checks(&h, views, &pictures, opts) {
         let placed = h
             .blocks

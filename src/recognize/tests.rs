@@ -124,3 +124,19 @@ fn a_wedge_turned_the_wrong_way_is_refused_by_the_check() {
     // Nor does the box the wedge fills: a Baustein 30 there.
     assert!(!explained(&[Block::new("b30", truth[0].center_mm, 0.0)]));
 }
+
+/// Empty drawings (a blank or tiny picture) hold no block: the answer declines, as an answer
+/// without blocks explains nothing.
+#[test]
+fn empty_views_are_declined_not_answered_with_no_blocks() {
+    let cube = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+    let mut views = views_of(&cube, &[CornerView::Ne, CornerView::Sw]);
+    for v in &mut views {
+        v.drawing = crate::drawing::LineDrawing::from_arrays(&[], &[]);
+    }
+    let r = recognize(&views, &RecognizeOptions::default()).unwrap();
+    assert_eq!(r.status, ReconStatus::Unsupported);
+    let reason = r.reason.unwrap();
+    assert!(reason.contains("no block found"), "{reason}");
+    assert_eq!(answer::decline_kind(&reason), "no blocks");
+}

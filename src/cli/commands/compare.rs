@@ -36,7 +36,7 @@ pub struct Args {
     #[arg(long, default_value = "ne")]
     pub view: String,
     /// Timed repetitions per scene (the median is printed).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, value_parser = crate::cli::at_least_one::<usize>)]
     pub repeat: usize,
 }
 
@@ -139,7 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let path = args.scenes.join(case.file);
         let scene = read_scene(&path).with_context(|| format!("reading {}", path.display()))?;
         for (k, model) in MODELS[..2].iter().enumerate() {
-            let m = measure(&scene, view, *model, args.repeat.max(1))
+            let m = measure(&scene, view, *model, args.repeat)
                 .with_context(|| format!("measuring {}", path.display()))?;
             rows[k].push((case, scene.clone(), m));
         }

@@ -60,7 +60,7 @@ pub struct Args {
     #[arg(long = "family", value_delimiter = ',', conflicts_with = "recognizer")]
     pub families: Vec<String>,
     /// How many scenes `--family` draws.
-    #[arg(long, default_value_t = 48)]
+    #[arg(long, default_value_t = 48, value_parser = crate::cli::at_least_one::<u64>)]
     pub count: u64,
     /// Recognize pictures someone else drew, laid out as a dataset (per scene `scene.json`, and
     /// `view_<v>.png` beside `camera_<v>.json`), beside blockworld's own looks of the same

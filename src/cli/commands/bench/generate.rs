@@ -15,7 +15,7 @@ use std::time::Instant;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Scenes to generate (every family cycles, up to 12 blocks each).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, value_parser = crate::cli::at_least_one::<u64>)]
     pub count: u64,
     /// Worker threads (default: all cores).
     #[arg(long, default_value_t = 0)]

@@ -61,10 +61,10 @@ pub struct Args {
     #[arg(long, default_value = "bench/peers")]
     pub peers_dir: PathBuf,
     /// Rounds; each runs every measurement once, blockworld and peer one after the other.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = crate::cli::at_least_one::<usize>)]
     pub rounds: usize,
     /// Scenes per dataset run (blockworld's and the Kubric-style pipeline's).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, value_parser = crate::cli::at_least_one::<u64>)]
     pub count: u64,
     /// Workers of both dataset pipelines.
     #[arg(long, default_value_t = 2)]
@@ -116,7 +116,7 @@ fn run_rounds(args: &Args, renderer: &Renderer, scratch: &Path) -> anyhow::Resul
         .with_context(|| format!("writing {}", blender.display()))?;
     let peer = |script: &Path, extra: &[String]| run_peer(&args.python, script, extra);
     let mut r = Rounds::default();
-    for round in 1..=args.rounds.max(1) {
+    for round in 1..=args.rounds {
         eprintln!("bench peers: round {round} of {}", args.rounds);
         let dataset = scratch.join("blockworld-dataset");
         let _ = std::fs::remove_dir_all(&dataset);

@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, default_value = "scenes/bench")]
     pub suite: PathBuf,
     /// Timed runs per scene; the fastest counts.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::cli::at_least_one::<usize>)]
     pub repeat: usize,
 }
 

@@ -15,7 +15,7 @@ use blockworld::scene::{Block, Scene};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Settle each scene this many times and keep the fastest.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, value_parser = crate::cli::at_least_one::<usize>)]
     pub repeat: usize,
     /// Also cube-like stacks of this many b15 (as in `bench scale`), comma separated, each 1 to
     /// 2000.
@@ -105,7 +105,7 @@ fn pybullet_peer(args: &Args, python: &std::path::Path) -> anyhow::Result<serde_
     use std::io::Write;
     let mut child = std::process::Command::new(python)
         .arg(&args.pybullet_script)
-        .args(["--repeat", &args.repeat.max(1).to_string()])
+        .args(["--repeat", &args.repeat.to_string()])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -148,7 +148,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         p.rest_hold_s,
         1.0 / p.dt_s,
         p.sink_budget_mm,
-        args.repeat.max(1)
+        args.repeat
     )?;
     outln!(
         "| scene | blocks | ms | steps | simulated ms | max drift mm | max turn deg | verdict |"

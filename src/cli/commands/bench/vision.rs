@@ -42,7 +42,7 @@ pub struct Args {
     #[arg(long, default_value_t = 2.0)]
     pub match_px: f64,
     /// Repeat each view's steps this many times and keep the fastest (timing only).
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::cli::at_least_one::<u32>)]
     pub repeat: u32,
     /// Instead of the suite: the front end's time per megapixel on pictures as dense in edges
     /// as it accepts, from 512 px up to --max-side (docs/vision.md "Vision front end").
@@ -122,7 +122,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut all = Tally::default();
     let mut supported = Tally::default();
     for s in &samples {
-        let (drawing, lines, ms) = timed_steps(s, &opts, args.repeat.max(1));
+        let (drawing, lines, ms) = timed_steps(s, &opts, args.repeat);
         let m = match_vertices_with_tolerances(&drawing, &s.truth, &tol);
         let angles = line_angle_errors_deg(&lines, &s.truth, &tol);
         let mut tallies = vec![families.entry(s.family.clone()).or_default(), &mut all];
