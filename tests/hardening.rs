@@ -567,3 +567,96 @@ fn counts_of_runs_refuse_zero_naming_the_flag() {
         );
     }
 }
+
+/// Regression: `view --from 1e300,1e300,1e300` overflowed computing the viewing axes and was
+/// reported as "--up is zero or along the line of sight"; the coordinate is refused by its
+/// option and number, and an Up of any length counts by its direction alone.
+#[test]
+fn view_names_an_overflowing_eye_point_not_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("v.png");
+    let two = scene("two_layer.json");
+    let view = |extra: &[&str]| {
+        let mut args = vec!["view", &two, "-o", png.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        blockworld(&args)
+    };
+    for (option, point) in [("--from", "1e300,1e300,1e300"), ("--at", "1e300,0,0")] {
+        let err = fails_with_2(&view(&[option, point]));
+        assert!(
+            err.contains(&format!("{option} coordinate 1e300 mm is out of range"))
+                && err.contains("1000000 mm")
+                && !err.contains("--up"),
+            "{err}"
+        );
+        assert!(!png.exists());
+    }
+    common::ok(view(&["--up", "0,1e300,0"]));
+    assert!(png.exists());
+}
+
+/// Regression: `view PREFIX` with a bad Appendix B file opened its error with "the model" only,
+/// and `view --overlay /nonexistent` did not say the overlay file was missing.
+#[test]
+fn view_names_the_model_file_and_a_missing_overlay() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("bad");
+    write(dir.path(), "bad_vertices.txt", b"garbage\n");
+    write(dir.path(), "bad_connections.txt", b"0\n");
+    let png = dir.path().join("v.png");
+    let p = prefix.to_string_lossy().into_owned();
+    let err = fails_with_2(&blockworld(["view", &p, "-o", png.to_str().unwrap()]));
+    assert!(
+        err.contains(&format!("reading the model {p}")) && err.contains("bad_vertices.txt"),
+        "{err}"
+    );
+    let two = scene("two_layer.json");
+    let args = ["view", &two, "--overlay", "/nonexistent", "-o"];
+    let err = fails_with_2(&blockworld(args.iter().chain(&[png.to_str().unwrap()])));
+    assert!(
+        err.contains("the --overlay file /nonexistent is missing"),
+        "{err}"
+    );
+    assert!(!png.exists());
+}
+
+/// Appendix B files are read through one reader: a non-UTF-8 byte in either file is reported by
+/// `view`, `export` and `score` with its byte offset and the file's name.
+#[test]
+fn non_utf8_appendix_b_files_name_the_byte_offset_and_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("tl").to_string_lossy().into_owned();
+    let o = blockworld([
+        "export",
+        &scene("two_layer.json"),
+        "--format",
+        "thesis",
+        "-o",
+        &prefix,
+    ]);
+    common::ok(&o);
+    let png = dir.path().join("v.png").to_string_lossy().into_owned();
+    let glb = dir.path().join("x.glb").to_string_lossy().into_owned();
+    let commands: [&[&str]; 3] = [
+        &["view", &prefix, "-o", &png],
+        &["export", &prefix, "-o", &glb],
+        &["score", &prefix, &prefix],
+    ];
+    common::ok(blockworld(commands[2]));
+    for file in ["tl_vertices.txt", "tl_connections.txt"] {
+        let path = dir.path().join(file);
+        let good = std::fs::read(&path).unwrap();
+        let mut bad = good.clone();
+        bad[50] = 0xFF;
+        std::fs::write(&path, &bad).unwrap();
+        for args in commands {
+            let err = fails_with_2(&blockworld(args));
+            assert!(
+                err.contains("byte offset 50") && err.contains(file),
+                "{args:?}: {err}"
+            );
+        }
+        std::fs::write(&path, &good).unwrap();
+    }
+    assert!(!Path::new(&png).exists() && !Path::new(&glb).exists());
+}

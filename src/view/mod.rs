@@ -34,6 +34,11 @@ pub use transform::{
     view_angle_scale, viewing_axes, ViewingAxes, ViewingTransform,
 };
 
+/// Largest |coordinate| of From and At, mm: 100 times the world's half extent
+/// ([`crate::geom::WORLD_HALF_EXTENT_MM`]), far beyond any useful eye point, and small enough
+/// that the viewing axes (eq. 2.5) are computed without overflow.
+pub const MAX_VIEW_COORD_MM: f64 = 1e6;
+
 /// Why a view cannot be drawn; each names the option to change.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ViewError {
@@ -64,6 +69,15 @@ pub enum ViewError {
         distance_mm: f64,
         /// The distance from From to At, mm.
         available_mm: f64,
+    },
+    /// A From or At coordinate beyond [`MAX_VIEW_COORD_MM`]: eq. 2.5's products would lose
+    /// the line of sight to overflow and rounding.
+    #[error("{option} coordinate {value} mm is out of range; give each coordinate of --from and --at within ±{max} mm (docs/limits.md \"Viewer\")", value = crate::io::echo_number(*.value_mm), max = MAX_VIEW_COORD_MM)]
+    TooFar {
+        /// The option.
+        option: &'static str,
+        /// The coordinate as given, mm.
+        value_mm: f64,
     },
     /// A NaN or infinite number in From, At, Up or a distance.
     #[error("{option} has a non-finite value; give finite numbers")]

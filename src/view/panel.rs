@@ -4,7 +4,7 @@
 
 use super::clip::{clip_line, point_at, Clipped};
 use super::transform::{rotation_y, translation, ViewingTransform};
-use super::ViewError;
+use super::{ViewError, MAX_VIEW_COORD_MM};
 use crate::geom::{bounds3, newell_vector, DVec2, DVec3};
 use crate::linedraw::eye_space::{clip_polygon_to_hither, occluder, visible_parts, Occluder};
 use crate::scene::Scene;
@@ -125,12 +125,19 @@ impl ViewParams {
 
     fn check(&self) -> Result<(), ViewError> {
         for (option, v) in [
-            ("--from", self.from_mm),
             ("--at", self.at_mm),
+            ("--from", self.from_mm),
             ("--up", self.up),
         ] {
             if !v.is_finite() {
                 return Err(ViewError::NotFinite { option });
+            }
+            let far = v
+                .to_array()
+                .into_iter()
+                .find(|c| c.abs() > MAX_VIEW_COORD_MM);
+            if let (Some(value_mm), false) = (far, option == "--up") {
+                return Err(ViewError::TooFar { option, value_mm });
             }
         }
         check_angle(self.view_angle_deg)

@@ -86,7 +86,9 @@ pub fn viewing_axes(from_mm: DVec3, at_mm: DVec3, up: DVec3) -> Result<ViewingAx
             at_mm: at_mm.into(),
         });
     }
-    let u_prime = up;
+    // Up's length does not matter: scaled to a largest component of 1, a huge or tiny Up
+    // neither overflows nor vanishes in the cross product.
+    let u_prime = up / up.abs().max_element().max(f64::MIN_POSITIVE);
     let across = a_prime.cross(u_prime);
     if across.length() <= 1e-9 * a_prime.length() * u_prime.length() || !across.is_finite() {
         return Err(ViewError::UpAlongLineOfSight { up: up.into() });

@@ -82,9 +82,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         Truncation::Strict
     };
-    let model = read_model(&args.model, truncation).context("the model")?;
+    let model = read_named_model("the model", &args.model, truncation)?;
     let truth = match &args.overlay {
-        Some(path) => Some(read_model(path, truncation).context("--overlay")?),
+        Some(path) => Some(read_named_model("the --overlay file", path, truncation)?),
         None => None,
     };
     let (models, scenes) = match &truth {
@@ -209,6 +209,18 @@ pub fn read_model(path: &Path, truncation: Truncation) -> anyhow::Result<Scene> 
         })
         .unwrap_or_default();
     Ok(thesis_model_to_scene(&model, &name, &names.1, truncation)?)
+}
+
+/// [`read_model`] of the `role` ("the model", "the --overlay file"): a missing file is named as
+/// missing, and any other error opens with the role and the path.
+fn read_named_model(role: &str, path: &Path, truncation: Truncation) -> anyhow::Result<Scene> {
+    if thesis_pair(path).is_none() && !path.exists() {
+        bail!(
+            "{role} {} is missing: no such file, nor an Appendix B pair {0}_vertices.txt and {0}_connections.txt; give a scene or reconstruction file, or the PREFIX of an Appendix B pair",
+            path.display()
+        );
+    }
+    read_model(path, truncation).with_context(|| format!("reading {role} {}", path.display()))
 }
 
 /// The menu's d: every vertex of every block in world mm.
