@@ -45,6 +45,8 @@ for b in "${benches[@]}"; do
   grep -v -E '^(machine:|renderer|build:)' "$out/$name.txt" | sed -e '/./,$!d'
   echo '```'
 done
+echo
+bench/report_index.sh "$bw"
 if [ "${PEERS:-0}" != 1 ]; then
   echo
   echo "## Peer ratios"

@@ -327,16 +327,42 @@ fn chromium_opens_the_site_filters_and_toggles() {
     }
 }
 
+/// `scenes.js` without each row's last two fields, the thumbnail's width and height.
+fn without_thumbnail_sizes(js: &str) -> String {
+    js.lines()
+        .map(
+            |l| match l.strip_prefix("[\"s").and_then(|r| r.strip_suffix("],")) {
+                Some(row) => {
+                    let fields: Vec<&str> = row.split(',').collect();
+                    format!("[\"s{}],\n", fields[..fields.len() - 2].join(","))
+                }
+                None => format!("{l}\n"),
+            },
+        )
+        .collect()
+}
+
 #[test]
-fn chromium_check_fails_on_a_missing_picture() {
+fn chromium_check_fails_on_a_missing_picture_and_unsized_thumbnails() {
     let Some(site) = site_for_browser("site_broken") else {
         return;
     };
     std::fs::remove_file(site.join("s000003/view_se.png")).unwrap();
+    let js = std::fs::read_to_string(site.join("scenes.js")).unwrap();
+    let stripped = without_thumbnail_sizes(&js);
+    assert!(
+        stripped.len() < js.len() && stripped.contains("\"ne\"],"),
+        "{stripped}"
+    );
+    std::fs::write(site.join("scenes.js"), stripped).unwrap();
     let (code, _, err) = check_in_browser(&site);
     assert_eq!(code, Some(1), "{err}");
     assert!(
         err.contains("broken link or image") && err.contains("s000003/view_se.png"),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!("{SCENES} thumbnails have no height")),
         "{err}"
     );
 }

@@ -24,10 +24,10 @@ pub fn index_files(run: &RunInfo, scenes: &[SceneSummary]) -> Vec<SiteFile> {
 
 /// `scenes.js`: `window.BLOCKWORLD_SCENES`, one array per scene: id, family, blocks,
 /// supported (1 or 0), outcome class, decline kind, label, volume IoU (null when not
-/// recognized) and the thumbnail's view.
+/// recognized), the thumbnail's view and its picture's width and height in px.
 pub fn scenes_script(scenes: &[SceneSummary]) -> String {
     let mut s = format!(
-        "// blockworld report: {} scenes (id, family, blocks, supported, outcome, kind, label, IoU, thumbnail view)\nwindow.BLOCKWORLD_PAGE_SIZE = {PAGE_SIZE};\nwindow.BLOCKWORLD_SCENES = [\n",
+        "// blockworld report: {} scenes (id, family, blocks, supported, outcome, kind, label, IoU, thumbnail view, its width and height px)\nwindow.BLOCKWORLD_PAGE_SIZE = {PAGE_SIZE};\nwindow.BLOCKWORLD_SCENES = [\n",
         scenes.len()
     );
     for sc in scenes {
@@ -37,7 +37,7 @@ pub fn scenes_script(scenes: &[SceneSummary]) -> String {
             .map_or("null".to_string(), |r| format!("{:.4}", r.iou));
         let _ = writeln!(
             s,
-            "[{},{},{},{},\"{}\",{},{},{iou},{}],",
+            "[{},{},{},{},\"{}\",{},{},{iou},{},{},{}],",
             json_str(&sc.id),
             json_str(&sc.family),
             sc.blocks,
@@ -45,7 +45,9 @@ pub fn scenes_script(scenes: &[SceneSummary]) -> String {
             sc.outcome.class(),
             json_str(sc.outcome.detail()),
             json_str(&sc.outcome.label()),
-            json_str(&sc.thumbnail_view)
+            json_str(&sc.thumbnail_view),
+            sc.thumbnail_px[0],
+            sc.thumbnail_px[1]
         );
     }
     s.push_str("];\n");

@@ -28,6 +28,7 @@ fn summary(outcome: Outcome) -> SceneSummary {
         blocks: 2,
         supported: true,
         thumbnail_view: "ne".into(),
+        thumbnail_px: [512, 480],
         outcome,
         result: None,
     }
@@ -118,9 +119,9 @@ fn scenes_script_has_one_array_per_scene() {
     let mut s = summary(Outcome::Declined("ambiguous".into()));
     s.result = Some(result(Verdict::Unsupported, false));
     let js = scenes_script(&[s, summary(Outcome::NotRecognized)]);
-    assert!(js.contains("[\"s000001\",\"tower\",2,1,\"declined\",\"ambiguous\",\"declined: ambiguous\",0.5000,\"ne\"],"), "{js}");
+    assert!(js.contains("[\"s000001\",\"tower\",2,1,\"declined\",\"ambiguous\",\"declined: ambiguous\",0.5000,\"ne\",512,480],"), "{js}");
     assert!(
-        js.contains(",\"none\",\"\",\"not recognized\",null,\"ne\"],"),
+        js.contains(",\"none\",\"\",\"not recognized\",null,\"ne\",512,480],"),
         "{js}"
     );
 }

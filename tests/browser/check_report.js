@@ -6,8 +6,9 @@
 //
 // Checks: no console errors or failed requests on any page; every link and image of the index
 // and of every scene page resolves to a file of the site; the outcome and family filters change
-// the visible count; switching an overlay on changes the screenshot's pixels. With
-// SCREENSHOT_DIR, writes report_index.png and report_scene.png there.
+// the visible count; the first page holds one page of sized thumbnails; switching an overlay on
+// changes the screenshot's pixels. With SCREENSHOT_DIR, writes report_index.png and
+// report_scene.png there.
 'use strict';
 
 const fs = require('fs');
@@ -75,7 +76,13 @@ async function checkFilters(page) {
   }
   if (!Object.values(counts).some((n) => n !== all)) fail('no filter changes the visible count');
   const grid = await page.$$eval('#grid a', (as) => as.length);
-  if (grid !== Math.min(all, 200)) fail('the grid shows ' + grid + ' of ' + all + ' scenes');
+  const size = await page.evaluate(() => window.BLOCKWORLD_PAGE_SIZE);
+  if (!(size > 0)) fail('scenes.js sets no page size');
+  if (grid !== Math.min(all, size)) fail('the grid shows ' + grid + ' of ' + all + ' scenes');
+  // Sized before their pictures load, so lazy loading fetches only those near the window.
+  const unsized = await page.$$eval('#grid img', (is) =>
+    is.filter((i) => !(Number(i.getAttribute('height')) > 0)).length);
+  if (unsized) fail(unsized + ' thumbnails have no height before their pictures load');
   return { all, counts };
 }
 

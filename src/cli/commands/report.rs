@@ -188,6 +188,7 @@ fn build_scene(
         blocks: entry.blocks,
         supported: entry.supported,
         thumbnail_view: view_names.first().cloned().unwrap_or_else(|| "ne".into()),
+        thumbnail_px: views.first().map_or([0, 0], |v| v.size_px),
         outcome,
         result: answer.as_ref().map(|a| a.0.clone()),
     };

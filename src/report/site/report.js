@@ -20,7 +20,8 @@
     location.hash = parts.join('&');
   }
 
-  // s: [id, family, blocks, supported, outcome, kind, label, iou, thumbnail view]
+  // s: [id, family, blocks, supported, outcome, kind, label, iou, thumbnail view, its width
+  // and height px]
   function matches(s, family, outcome) {
     if (family && s[1] !== family) return false;
     if (!outcome) return true;
@@ -38,6 +39,8 @@
     img.src = s[0] + '/view_' + s[8] + '.png';
     img.loading = 'lazy';
     img.width = 128;
+    // Sized before it loads, so only the pictures in or near the window are fetched.
+    if (s[9] > 0 && s[10] > 0) img.height = Math.round(128 * s[10] / s[9]);
     img.alt = s[0];
     var cap = document.createElement('span');
     cap.textContent = s[0] + ' · ' + s[1] + ' · ' + s[6] +
