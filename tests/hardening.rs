@@ -660,3 +660,81 @@ fn non_utf8_appendix_b_files_name_the_byte_offset_and_file() {
     }
     assert!(!Path::new(&png).exists() && !Path::new(&glb).exists());
 }
+
+/// Regression: out-of-range numbers outside the render options were echoed with 300 digits
+/// (`--view-angle 1e300`, `--split`, `--stable-fraction`, `--perspective`, settle's
+/// tolerances), and negative budgets and tolerances were taken; each is refused before any
+/// work, naming its flag, the number echoed short.
+#[test]
+fn out_of_range_numbers_are_echoed_short_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let two = scene("two_layer.json");
+    let fixture = common::root().join("tests/fixtures/vision/single_cube");
+    let view_png = fixture.join("view_ne.png").to_string_lossy().into_owned();
+    let camera = fixture
+        .join("camera_ne.json")
+        .to_string_lossy()
+        .into_owned();
+    let lines = fixture.join("lines_ne.json").to_string_lossy().into_owned();
+    let fix = fixture.to_string_lossy().into_owned();
+    let (v, s, r, g) = (out("v.png"), out("s.json"), out("r.json"), out("g"));
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["view", &two, "-o", &v, "--view-angle", "1e300"],
+            "--view-angle 1e300",
+        ),
+        (
+            vec!["view", &two, "-o", &v, "--move-from", "1e300"],
+            "--move-from 1e300",
+        ),
+        (
+            vec!["settle", &two, "-o", &s, "--drift-tol-mm=-1e300"],
+            "--drift-tol-mm -1e300",
+        ),
+        (
+            vec!["settle", &two, "-o", &s, "--turn-tol-deg=-1"],
+            "--turn-tol-deg -1 ",
+        ),
+        (
+            vec!["recognize", &fix, "-o", &r, "--time-budget-s=-1e300"],
+            "--time-budget-s -1e300",
+        ),
+        (
+            vec!["label", &lines, "--time-budget-s", "0"],
+            "--time-budget-s 0 ",
+        ),
+        (
+            vec![
+                "generate",
+                "--count",
+                "1",
+                "--keep-unstable",
+                "--stable-fraction",
+                "1e300",
+                "-o",
+                &g,
+            ],
+            "--stable-fraction 1e300",
+        ),
+        (
+            vec!["vertices", &view_png, "--camera", &camera, "--max-gap=-1"],
+            "--max-gap -1 ",
+        ),
+        (
+            vec!["bench", "vision", "--perspective", "1e300"],
+            "--perspective 1e300",
+        ),
+        (
+            vec!["bench", "vision", "--match-px=-1e300"],
+            "--match-px -1e300",
+        ),
+    ];
+    for (args, says) in cases {
+        let err = fails_with_2(&blockworld(&args));
+        assert!(err.contains(says) && err.len() < 400, "{args:?}: {err}");
+    }
+    for f in ["v.png", "s.json", "r.json", "g"] {
+        assert!(!dir.path().join(f).exists(), "{f} written");
+    }
+}

@@ -38,7 +38,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     ("csg", &["recognize", "scene", "camera", "geom"]),
     ("kanade", &["drawing", "camera", "geom"]),
-    ("view", &["scene", "drawing", "linedraw", "camera", "geom", "io"]),
+    (
+        "view",
+        &["scene", "drawing", "linedraw", "camera", "geom", "io"],
+    ),
     ("export", &["scene", "drawing", "camera", "geom", "io"]),
     (
         "pipeline",

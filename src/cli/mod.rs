@@ -96,6 +96,19 @@ where
     }
 }
 
+/// Refuses `<flag> <value>` unless `ok` (a finite value is also required), before any work:
+/// the message echoes the number short ([`blockworld::io::echo_number`]) and says what the flag
+/// takes (`takes`, e.g. "use 0 mm or more"), as the render options' errors do.
+pub fn check_number(flag: &str, value: f64, ok: bool, takes: &str) -> anyhow::Result<()> {
+    if ok && value.is_finite() {
+        return Ok(());
+    }
+    anyhow::bail!(
+        "{flag} {} is out of range; {takes}",
+        blockworld::io::echo_number(value)
+    )
+}
+
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {

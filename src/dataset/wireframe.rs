@@ -85,7 +85,7 @@ pub fn export_wireframes(
     if !(0.0..=1.0).contains(&opts.split) {
         return Err(DatasetError::Options(format!(
             "--split {} must lie in 0..=1 (the training fraction)",
-            opts.split
+            crate::io::echo_number(opts.split)
         )));
     }
     let manifest_path = dataset.join(MANIFEST_NAME);

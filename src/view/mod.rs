@@ -56,14 +56,14 @@ pub enum ViewError {
     },
     /// A view angle outside (0, 180) degrees has no tangent for eq. 2.6.
     #[error(
-        "--view-angle {deg} is out of range; use 1..=170 degrees (the thesis shows 30 and 60)"
+        "--view-angle {} is out of range; use 1..=170 degrees (the thesis shows 30 and 60)", crate::io::echo_number(*.deg)
     )]
     BadViewAngle {
         /// The angle as given, degrees.
         deg: f64,
     },
     /// Moving From toward At by this much would reach or pass At.
-    #[error("--move-from {distance_mm} mm would reach or pass --at ({available_mm:.3} mm away); use less than that, or a negative distance to move away")]
+    #[error("--move-from {} mm would reach or pass --at ({available_mm:.3} mm away); use less than that, or a negative distance to move away", crate::io::echo_number(*.distance_mm))]
     MoveFromPastAt {
         /// The distance asked for, mm.
         distance_mm: f64,

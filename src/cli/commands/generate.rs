@@ -164,7 +164,8 @@ fn stability_options(args: &Args) -> anyhow::Result<Option<StabilityOptions>> {
     let f = args.stable_fraction;
     if !(0.0..=1.0).contains(&f) {
         bail!(
-            "--stable-fraction {f}: give a share from 0 to 1 (0.5 draws half the scenes to stand)"
+            "--stable-fraction {}: give a share from 0 to 1 (0.5 draws half the scenes to stand)",
+            blockworld::io::echo_number(f)
         );
     }
     Ok(Some(StabilityOptions {

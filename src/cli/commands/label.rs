@@ -47,6 +47,9 @@ fn parse_catalog(s: &str) -> Result<Catalog, String> {
 /// Runs `blockworld label`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let d = read_points_and_lines(&args.drawing)?;
+    let budget_s = args.time_budget_s;
+    let takes = "use a positive number of seconds";
+    crate::cli::check_number("--time-budget-s", budget_s, budget_s > 0.0, takes)?;
     let opts = LabelOptions {
         catalog: args.catalog,
         boundary_occluding: args.boundary_occluding,

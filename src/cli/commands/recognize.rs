@@ -174,6 +174,9 @@ pub(super) fn recognize_folder(
 /// Runs `blockworld recognize`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let views = crate::cli::view_args::parse_corner_views(&args.source.views)?;
+    let budget_s = args.time_budget_s;
+    let takes = "use a positive number of seconds";
+    crate::cli::check_number("--time-budget-s", budget_s, budget_s > 0.0, takes)?;
     check_paths(&args, &views)?;
     args.rrd.check(&[&args.output])?;
     let opts = RecognizeOptions {

@@ -1,5 +1,6 @@
 //! `blockworld settle SCENE.json -o SETTLED.json [--allow-drift]` (docs/datasets.md "Settling").
 
+use crate::cli::check_number;
 use anyhow::{bail, Context};
 use blockworld::physics::{settle, SettleParams};
 use blockworld::scene::write_scene;
@@ -27,6 +28,9 @@ pub struct Args {
 /// Runs `blockworld settle`: stable scenes are written snapped to their intended poses;
 /// unstable ones are reported block by block and fail unless `--allow-drift`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let (drift, turn) = (args.drift_tol_mm, args.turn_tol_deg);
+    check_number("--drift-tol-mm", drift, drift >= 0.0, "use 0 mm or more")?;
+    check_number("--turn-tol-deg", turn, turn >= 0.0, "use 0 degrees or more")?;
     crate::cli::files::check_output(&args.output, &[&args.scene])?;
     let scene = crate::cli::files::read_scene_shown(&args.scene)?;
     let params = SettleParams {

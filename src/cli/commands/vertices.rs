@@ -43,6 +43,22 @@ pub struct Args {
 
 /// Runs `blockworld vertices`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    use crate::cli::check_number;
+    let (step, share, gap) = (args.faint_min_step, args.faint_min_share, args.max_gap);
+    check_number(
+        "--faint-min-step",
+        step,
+        step >= 0.0,
+        "use 0 gray levels or more",
+    )?;
+    let takes = "use a share from 0 to 1";
+    check_number(
+        "--faint-min-share",
+        share,
+        (0.0..=1.0).contains(&share),
+        takes,
+    )?;
+    check_number("--max-gap", gap, gap >= 0.0, "use 0 px or more")?;
     if let Some(out) = &args.output {
         crate::cli::files::check_output(out, &[&args.view, &args.camera])?;
     }

@@ -97,6 +97,8 @@ struct Rounds {
 
 /// Runs `blockworld bench peers`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let w = args.render_warmup_s;
+    crate::cli::check_number("--render-warmup-s", w, w >= 0.0, "use 0 s or more")?;
     check_peers(&args.python, &args.peers_dir, &python_imports)?;
     let renderer = renderer_for(&args.view)?.context("bench peers needs views to render")?;
     let scratch = std::env::temp_dir().join(format!("blockworld-peers-{}", std::process::id()));

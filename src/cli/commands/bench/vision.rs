@@ -103,6 +103,8 @@ impl Tally {
 
 /// Runs `blockworld bench vision`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let m = args.match_px;
+    crate::cli::check_number("--match-px", m, m > 0.0, "use a positive distance in px")?;
     if args.scaling {
         return super::vision_scaling::run(args.max_side, args.repeat);
     }
@@ -267,7 +269,10 @@ fn render_suite(args: &Args) -> anyhow::Result<Vec<Sample>> {
     opts.photo.light_jitter_deg = args.light_jitter;
     if let Some(fov_y_deg) = args.perspective {
         if !(1.0..=170.0).contains(&fov_y_deg) {
-            bail!("--perspective: {fov_y_deg} is out of range; use 1..=170 degrees");
+            bail!(
+                "--perspective {} is out of range; use 1..=170 degrees",
+                blockworld::io::echo_number(fov_y_deg)
+            );
         }
         opts.camera.projection = blockworld::camera::Projection::Perspective { fov_y_deg };
     }
