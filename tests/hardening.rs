@@ -738,3 +738,48 @@ fn out_of_range_numbers_are_echoed_short_naming_the_flag() {
         assert!(!dir.path().join(f).exists(), "{f} written");
     }
 }
+
+/// Regression: an Appendix B pair holding one cube twice (coincident cubes) was read as two
+/// blocks; it is refused by `view`, `export` and `score`, naming both blocks.
+#[test]
+fn coincident_cubes_in_appendix_b_files_are_refused_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("tc").to_string_lossy().into_owned();
+    let two = scene("two_cubes_touching.json");
+    common::ok(blockworld([
+        "export", &two, "--format", "thesis", "-o", &good,
+    ]));
+    let text = std::fs::read_to_string(format!("{good}_vertices.txt")).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let (count_line, _) = lines
+        .iter()
+        .enumerate()
+        .find(|(_, l)| l.trim() == "16")
+        .unwrap();
+    let first: Vec<&str> = lines[count_line + 1..count_line + 9].to_vec();
+    lines.splice(count_line + 9..count_line + 17, first);
+    let bad = dir.path().join("cc").to_string_lossy().into_owned();
+    std::fs::write(format!("{bad}_vertices.txt"), lines.join("\n")).unwrap();
+    std::fs::copy(
+        format!("{good}_connections.txt"),
+        format!("{bad}_connections.txt"),
+    )
+    .unwrap();
+    common::ok(blockworld(["score", &good, &good]));
+    let png = dir.path().join("v.png").to_string_lossy().into_owned();
+    let glb = dir.path().join("x.glb").to_string_lossy().into_owned();
+    let commands: [&[&str]; 3] = [
+        &["view", &bad, "-o", &png],
+        &["export", &bad, "-o", &glb],
+        &["score", &good, &bad],
+    ];
+    for args in commands {
+        let err = fails_with_2(&blockworld(args));
+        assert!(
+            err.contains("block 1 (faces from 1) and block 2 (faces from 7) overlap by 15.000 mm")
+                && err.contains("cc_connections.txt"),
+            "{args:?}: {err}"
+        );
+    }
+    assert!(!Path::new(&png).exists() && !Path::new(&glb).exists());
+}

@@ -15,7 +15,7 @@
 //! is kept as it is. Reading back gives world mm in that frame.
 
 use crate::geom::{heading_deg, DVec3};
-use crate::scene::{basic_blocks, Block, Orientation, Scene};
+use crate::scene::{basic_blocks, Block, Orientation, Scene, SceneError};
 use glam::{DMat3, DQuat};
 
 /// The thesis's unit of length: the edge of the sample's unit cube, the Baustein 15 (15 mm).
@@ -114,6 +114,25 @@ pub enum ThesisFormatError {
         /// What does not fit.
         reason: String,
     },
+    /// Two blocks sharing volume (coincident cubes, or one reaching into another).
+    #[error("{source_name}: block {a} (faces from {a_first_face}) and block {b} (faces from {b_first_face}) overlap by {depth_mm:.3} mm; each block's faces must enclose its own space, remove or move one of them")]
+    Overlap {
+        /// The connections file.
+        source_name: String,
+        /// 1-based first block.
+        a: usize,
+        /// Its first face (1-based).
+        a_first_face: usize,
+        /// 1-based second block.
+        b: usize,
+        /// Its first face (1-based).
+        b_first_face: usize,
+        /// Penetration depth along the best separating axis, mm.
+        depth_mm: f64,
+    },
+    /// The blocks read do not form a valid scene (outside the world, below the floor).
+    #[error("{0}")]
+    Scene(String),
 }
 
 /// The text of the two data files.
@@ -371,7 +390,9 @@ fn parse_faces(
 /// Rebuilds the blocks of a model read from the data files: a block is a run of consecutive
 /// faces that share vertices (Appendix B lists the faces block by block), fitted as a catalog
 /// cuboid from the three edges at one corner. With [`Truncation::AllowFragment`], runs of
-/// fewer than six faces (a block cut off by the fragment's end) are dropped.
+/// fewer than six faces (a block cut off by the fragment's end) are dropped. The blocks are
+/// checked as a scene file's are ([`Scene::validate`]): two blocks sharing volume (coincident
+/// cubes) are refused, naming both by their number and first face.
 pub fn thesis_model_to_scene(
     model: &ThesisModel,
     name: &str,
@@ -379,6 +400,7 @@ pub fn thesis_model_to_scene(
     truncation: Truncation,
 ) -> Result<Scene, ThesisFormatError> {
     let mut blocks = Vec::new();
+    let mut numbers = Vec::new();
     for (k, (first_face, faces)) in face_runs(&model.faces).into_iter().enumerate() {
         if faces.len() < 6 && truncation == Truncation::AllowFragment {
             continue;
@@ -391,8 +413,21 @@ pub fn thesis_model_to_scene(
         };
         let mm = |i: usize| model.vertices_units[i] * THESIS_UNIT_MM;
         blocks.push(fit_block(faces, &mm).map_err(fail)?);
+        numbers.push((k + 1, first_face + 1));
     }
-    Ok(Scene::new(name, blocks))
+    let scene = Scene::new(name, blocks);
+    match scene.validate(source_name) {
+        Ok(()) => Ok(scene),
+        Err(SceneError::Overlap { a, b, depth_mm, .. }) => Err(ThesisFormatError::Overlap {
+            source_name: source_name.to_string(),
+            a: numbers[a].0,
+            a_first_face: numbers[a].1,
+            b: numbers[b].0,
+            b_first_face: numbers[b].1,
+            depth_mm,
+        }),
+        Err(e) => Err(ThesisFormatError::Scene(e.to_string())),
+    }
 }
 
 /// Consecutive faces grouped into runs that share vertices: (index of the first face, faces).
