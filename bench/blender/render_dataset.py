@@ -38,7 +38,9 @@ import math
 import os
 import shutil
 import sys
+import struct
 import time
+import zlib
 
 import numpy as np
 
@@ -318,7 +320,7 @@ def build_stage(engine, args):
         lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
         lamp.data.shadow_soft_size = LAMP_RADIUS_MM / 1000
         scene.collection.objects.link(lamp)
-    return {"scene": scene, "camera": cam, "lamp": lamp,
+    return {"scene": scene, "camera": cam, "lamp": lamp, "floor": floor, "suns": [],
             "block": new_material("block", BLOCK_ALBEDO, 0.6), "meshes": {}, "objects": []}
 
 
@@ -384,6 +386,169 @@ def render_to(scene, path):
     os.replace(tmp, path)
 
 
+# ---- The varied look (docs/varied-look.md "look.json") ---------------------------------------
+
+def read_look(folder, views):
+    """A scene's `look.json` (docs/varied-look.md), or None when the scene has none."""
+    path = os.path.join(folder, "look.json")
+    if not os.path.isfile(path):
+        return None
+    look = read_json(path)
+    try:
+        if look["format"] != "blockworld-look/1":
+            raise BadInput(f"{path}: format {look['format']!r}; this bench reads blockworld-look/1")
+        out = {
+            "path": path,
+            "ambient": float(look["ambient"]),
+            "light_radius_deg": float(look["light_radius_deg"]),
+            "edge_radius_mm": float(look["edge_radius_mm"]),
+            "block_albedos": [float(a) for a in look["block_albedos"]],
+            "floor_albedo": float(look["floor_albedo"]),
+            "gloss": float(look["gloss"]),
+            "shininess": float(look["shininess"]),
+            "intensities": [float(l["intensity"]) for l in look["lights"]],
+            "downsample": int(look["camera"]["downsample"]),
+            "sensor": {k: float(look["sensor"][k]) for k in
+                       ("gain", "blur_sigma_px", "full_well_e", "read_noise_e", "gamma",
+                        "vignetting")},
+            "seed": int(look["seed"]),
+            "towards_light": {v: [np.array(l["towards_light"], dtype=float)
+                                  for l in look["views"][v]] for v in views},
+        }
+    except (KeyError, TypeError, IndexError, ValueError) as e:
+        raise BadInput(f"{path}: not a blockworld-look/1 file ({e!r}); regenerate the dataset")
+    return out
+
+
+def aim_suns(stage, look, view):
+    """Points one sun per light of `look` as `view` sees it (docs/varied-look.md: a camera lamp
+    turns with each view), with the look's softness and the sensor's gain folded in."""
+    for ob in stage["suns"]:
+        bpy.data.objects.remove(ob, do_unlink=True)
+    stage["suns"] = []
+    gain = look["sensor"]["gain"]
+    for i, (towards, intensity) in enumerate(zip(look["towards_light"][view],
+                                                 look["intensities"])):
+        sun = bpy.data.objects.new(f"sun{i}", bpy.data.lights.new(f"sun{i}", "SUN"))
+        # A sun of strength S lights a face it meets head-on with irradiance S; a white
+        # Lambertian face then has radiance S / pi, blockworld's `intensity` (times the gain).
+        sun.data.energy = math.pi * intensity * gain
+        sun.data.angle = math.radians(2.0 * look["light_radius_deg"])
+        z = to_blender(towards)
+        z = z / np.linalg.norm(z)
+        x = np.cross([0.0, 0.0, 1.0] if abs(z[2]) < 0.9 else [1.0, 0.0, 0.0], z)
+        x = x / np.linalg.norm(x)
+        m = np.eye(4)
+        m[:3, 0], m[:3, 1], m[:3, 2] = x, np.cross(z, x), z
+        sun.matrix_world = blender_matrix(m)
+        stage["scene"].collection.objects.link(sun)
+        stage["suns"].append(sun)
+
+
+def dress_for_look(stage, look, blocks):
+    """Albedos, gloss, ambient and rounding of `look` on the stage and its blocks."""
+    world = stage["scene"].world.node_tree.nodes["Background"]
+    # A uniform world of radiance A gives an open face irradiance pi A: radiance A from white.
+    world.inputs["Strength"].default_value = look["ambient"] * look["sensor"]["gain"]
+    set_albedo(stage["floor"].data.materials[0], look["floor_albedo"], 0.0, 1.0)
+    for i, ob in enumerate(stage["objects"]):
+        m = new_material(f"look_block{i}", look["block_albedos"][i], 1.0)
+        # Blinn-Phong exponent n is about GGX roughness sqrt(2 / (n + 2)).
+        set_albedo(m, look["block_albedos"][i], look["gloss"],
+                   math.sqrt(2.0 / (look["shininess"] + 2.0)) if look["gloss"] > 0 else 1.0)
+        ob.data = ob.data.copy()
+        ob.data.materials.clear()
+        ob.data.materials.append(m)
+
+
+def set_albedo(material, albedo, gloss, roughness):
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (albedo, albedo, albedo, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Specular IOR Level"].default_value = min(1.0, gloss * 2.0)
+
+
+def linear_picture(path):
+    """A Raw 16-bit PNG Blender wrote, as linear values in rows top to bottom."""
+    img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"  # the file's values, not decoded as sRGB
+    w, h = img.size
+    px = np.array(img.pixels[:], dtype=np.float64).reshape(h, w, 4)[::-1, :, 0]
+    bpy.data.images.remove(img)
+    return px
+
+
+def gaussian_blur(img, sigma):
+    if sigma <= 0:
+        return img
+    r = int(math.ceil(3 * sigma))
+    k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    k /= k.sum()
+    pad = np.pad(img, r, mode="edge")
+    rows = np.apply_along_axis(lambda v: np.convolve(v, k, mode="valid"), 1, pad)
+    return np.apply_along_axis(lambda v: np.convolve(v, k, mode="valid"), 0, rows)
+
+
+def expose(radiance, sensor, seed):
+    """blockworld's sensor on a linear picture (docs/rendering.md "Photographic look"): blur,
+    vignetting, shot and read noise, gamma, 8-bit levels. Its own seeded noise, not
+    blockworld's stream: the same statistics, other samples."""
+    h, w = radiance.shape
+    light = gaussian_blur(radiance, sensor["blur_sigma_px"])
+    ys, xs = np.mgrid[0:h, 0:w]
+    r2 = ((xs + 0.5 - w / 2) ** 2 + (ys + 0.5 - h / 2) ** 2) / ((w * w + h * h) / 4)
+    light = light * (1 - sensor["vignetting"] * r2)
+    rng = np.random.default_rng(seed)
+    well = sensor["full_well_e"]
+    if well > 0:
+        e = np.clip(light, 0, None) * well
+        e = e + rng.normal(size=e.shape) * np.sqrt(e) + rng.normal(size=e.shape) * sensor["read_noise_e"]
+        light = e / well
+    light = np.clip(light, 0, 1) ** (1 / sensor["gamma"])
+    return np.floor(255 * light + 0.5).astype(np.uint8)
+
+
+def averaged(levels, n):
+    """The picture averaged n x n (blockworld's --downsample), rounded to levels."""
+    if n <= 1:
+        return levels
+    h, w = levels.shape[0] // n * n, levels.shape[1] // n * n
+    blocks = levels[:h, :w].astype(np.float64).reshape(h // n, n, w // n, n)
+    return np.floor(blocks.mean(axis=(1, 3)) + 0.5).astype(np.uint8)
+
+
+def write_gray_png(path, levels):
+    """An 8-bit gray PNG, written through a temporary name."""
+    h, w = levels.shape
+    raw = b"".join(b"\x00" + levels[y].tobytes() for y in range(h))
+    chunk = lambda kind, data: (struct.pack(">I", len(data)) + kind + data
+                                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+           + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+    tmp = path[:-4] + ".partial.png"
+    with open(tmp, "wb") as f:
+        f.write(png)
+    os.replace(tmp, path)
+
+
+def render_varied(stage, cam, look, view, path, k):
+    """One view in the scene's varied look: Cycles at the rendered size (twice the written
+    one when the look averages 2 x 2), blockworld's sensor on the linear result, averaged."""
+    n = look["downsample"]
+    scene = stage["scene"]
+    aim_camera(stage, cam)
+    scene.render.resolution_x *= n
+    scene.render.resolution_y *= n
+    aim_suns(stage, look, view)
+    tmp = path[:-4] + ".linear.png"
+    scene.render.filepath = tmp
+    bpy.ops.render.render(write_still=True)
+    radiance = linear_picture(tmp)
+    os.remove(tmp)
+    levels = expose(radiance, look["sensor"], look["seed"] + k)
+    write_gray_png(path, averaged(levels, n))
+
+
 # ---- Rendering a dataset ----------------------------------------------------------------------
 
 def read_views(folder, views):
@@ -397,8 +562,10 @@ def read_views(folder, views):
 
 
 def copy_truth(src, dst, views):
+    """scene.json and each view's camera (and look.json when `views` lists "look")."""
     os.makedirs(dst, exist_ok=True)
-    for name in ["scene.json"] + [f"camera_{v}.json" for v in views]:
+    names = ["scene.json"] + [f"camera_{v}.json" for v in views if v != "look"]
+    for name in names + (["look.json"] if "look" in views else []):
         shutil.copyfile(os.path.join(src, name), os.path.join(dst, name))
 
 
@@ -406,30 +573,60 @@ def render_all(args, names):
     """Draws every view of every scene into OUT, keeping scenes already drawn."""
     # Every input is read before anything is written: a bad file stops the run with no output.
     inputs = [(read_scene(os.path.join(args.dataset, n, "scene.json")),
-               read_views(os.path.join(args.dataset, n), args.views)) for n in names]
+               read_views(os.path.join(args.dataset, n), args.views),
+               read_look(os.path.join(args.dataset, n), args.views)) for n in names]
+    varied = [look is not None for _, _, look in inputs]
+    if any(varied) and not all(varied):
+        raise BadInput(f"{args.dataset}: some scenes have look.json and some not; render one "
+                       "look per dataset")
+    if any(varied) and args.engine != "cycles":
+        raise BadInput(f"{args.dataset}: a varied-look dataset (look.json) is drawn with "
+                       "--engine cycles only")
+    for (blocks, _, look) in inputs:
+        if look is not None and len(look["block_albedos"]) != len(blocks):
+            raise BadInput(f"{look['path']}: {len(look['block_albedos'])} albedos for "
+                           f"{len(blocks)} blocks; regenerate the dataset")
     os.makedirs(args.out, exist_ok=True)
     stage = build_stage(args.engine, args)
+    if any(varied):
+        set_linear_output(stage)
     seconds, started = [], time.time()
-    for k, (name, (blocks, cams)) in enumerate(zip(names, inputs)):
+    for k, (name, (blocks, cams, look)) in enumerate(zip(names, inputs)):
         src, dst = os.path.join(args.dataset, name), os.path.join(args.out, name)
         pictures = [os.path.join(dst, f"view_{v}.png") for v in args.views]
         if all(os.path.isfile(p) for p in pictures):
             continue
-        copy_truth(src, dst, args.views)
-        place_blocks(stage, blocks, args.bevel_mm, face_colours=False)
+        copy_truth(src, dst, args.views + (["look"] if look else []))
+        bevel = look["edge_radius_mm"] if look else args.bevel_mm
+        place_blocks(stage, blocks, bevel, face_colours=False)
+        if look:
+            dress_for_look(stage, look, blocks)
         todo = [(v, p) for v, p in zip(args.views, pictures) if not os.path.isfile(p)]
         for v, picture in todo:
-            aim_camera(stage, cams[v])
             t = time.perf_counter()
-            render_to(stage["scene"], picture)
+            if look:
+                render_varied(stage, cams[v], look, v, picture, VIEWS.index(v))
+            else:
+                aim_camera(stage, cams[v])
+                render_to(stage["scene"], picture)
             seconds.append(time.perf_counter() - t)
         print(f"[{k + 1}/{len(names)}] {name}: {len(blocks)} blocks, {len(todo)} views, "
               f"{np.mean(seconds[-len(todo):]):.2f} s per view", flush=True)
-    write_settings(args, names, seconds, time.time() - started)
+    write_settings(args, names, seconds, time.time() - started, any(varied))
     return 0
 
 
-def write_settings(args, names, seconds, wall_s):
+def set_linear_output(stage):
+    """Linear 16-bit output and no camera lamp: the varied look's lights and sensor instead."""
+    r = stage["scene"].render
+    r.image_settings.color_mode, r.image_settings.color_depth = "BW", "16"
+    stage["scene"].view_settings.view_transform = "Raw"
+    stage["lamp"].data.energy = 0.0
+    stage["lamp"].hide_render = True
+    stage["lamp"] = None
+
+
+def write_settings(args, names, seconds, wall_s, varied=False):
     settings = {
         "blender": bpy.app.version_string,
         "dataset": os.path.abspath(args.dataset),
@@ -447,6 +644,7 @@ def write_settings(args, names, seconds, wall_s):
             "azimuth_offset_deg": LAMP_AZIMUTH_OFFSET_DEG,
             "elevation_offset_deg": LAMP_ELEVATION_OFFSET_DEG,
             "radius_mm": LAMP_RADIUS_MM, "irradiance": LAMP_IRRADIANCE},
+        "varied_look": varied,
         "views_rendered_now": len(seconds),
         "seconds_per_view_mean": round(float(np.mean(seconds)), 3) if seconds else None,
         "seconds_per_view_median": round(float(np.median(seconds)), 3) if seconds else None,
@@ -465,6 +663,7 @@ def write_settings(args, names, seconds, wall_s):
 def read_labels(path):
     """A flat-colour picture as one integer label per pixel, rows from the bottom (picture y up)."""
     img = bpy.data.images.load(path)
+    img.colorspace_settings.name = "Non-Color"  # the file's values, not decoded as sRGB
     w, h = img.size
     px = np.empty(w * h * 4, dtype=np.float32)
     img.pixels.foreach_get(px)

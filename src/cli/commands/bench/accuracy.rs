@@ -64,7 +64,9 @@ pub struct Args {
     pub count: u64,
     /// Recognize pictures someone else drew, laid out as a dataset (per scene `scene.json`, and
     /// `view_<v>.png` beside `camera_<v>.json`), beside blockworld's own looks of the same
-    /// scenes (docs/yardstick.md "The bench").
+    /// scenes (docs/yardstick.md "The bench"); with `--look photo_varied`, pictures of a
+    /// varied-look dataset beside blockworld's varied look in each scene's own draw (its
+    /// `look.json` seed; docs/yardstick.md "The varied look, draw for draw").
     #[arg(long, value_name = "DIR", conflicts_with_all = ["recognizer", "families", "make_reference", "from_truth", "golden"])]
     pub pictures: Option<PathBuf>,
 }

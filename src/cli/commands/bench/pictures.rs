@@ -11,7 +11,7 @@ use crate::cli::files::{read_camera, read_picture};
 use anyhow::{bail, Context};
 use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
-use blockworld::pipeline::{run_suite, DrawingSource, PipelineOptions};
+use blockworld::pipeline::{run_scene, run_suite, DrawingSource, PipelineOptions};
 use blockworld::recognize::{recognize_in_pictures, ObservedView};
 use blockworld::render::{Look, RenderOptions, Renderer};
 use blockworld::scene::{read_scene, Scene};
@@ -48,9 +48,14 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
         bail!("--views: no view given; name one or more of ne, se, sw, nw");
     }
     let render = args.view.render_options()?;
+    let varied = render.look == Look::PhotoVaried;
     let scenes = read_picture_scenes(dir, &views)?;
     for s in &scenes {
-        check_cameras(s, &views, &render)?;
+        if varied {
+            look_seed(s)?;
+        } else {
+            check_cameras(s, &views, &render)?;
+        }
     }
     let name = dir.display().to_string();
     let pictured = crate::cli::progress::with_progress(
@@ -76,17 +81,26 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
         name,
         results: pictured,
     }];
-    for (look, label) in [
-        (Look::LineArt, "blockworld line art"),
-        (Look::Photo, "blockworld photo look"),
-    ] {
+    let own_looks: &[(Look, &str)] = if varied {
+        &[(Look::PhotoVaried, "blockworld varied photo look")]
+    } else {
+        &[
+            (Look::LineArt, "blockworld line art"),
+            (Look::Photo, "blockworld photo look"),
+        ]
+    };
+    for &(look, label) in own_looks {
         let opts = PipelineOptions {
             render: RenderOptions { look, ..render },
             views: views.clone(),
             source: DrawingSource::Pictures(VisionOptions::default()),
             ..PipelineOptions::default()
         };
-        let runs = run_suite(&renderer, &suite, &opts);
+        let runs = if varied {
+            own_varied_runs(&renderer, &scenes, &opts)?
+        } else {
+            run_suite(&renderer, &suite, &opts)
+        };
         sources.push(Source {
             name: label.to_string(),
             results: runs.into_iter().map(|r| r.result).collect(),
@@ -137,6 +151,46 @@ fn read_picture_scenes(dir: &Path, views: &[CornerView]) -> anyhow::Result<Vec<P
             let id = folder.file_name().unwrap_or_default().to_string_lossy().into_owned();
             let truth = read_scene(&folder.join("scene.json"))?;
             Ok(PictureScene { id, truth, folder })
+        })
+        .collect()
+}
+
+/// The seed of scene `s`'s draw of the varied look, read from its `look.json`
+/// (docs/varied-look.md "look.json"), which `bench/blender/render_dataset.py` copies beside the
+/// pictures; an error naming the file when it is missing or has no seed.
+fn look_seed(s: &PictureScene) -> anyhow::Result<u64> {
+    let path = s.folder.join("look.json");
+    let text = std::fs::read_to_string(&path).with_context(|| {
+        format!(
+            "{}: missing; --look photo_varied scores pictures of a varied-look dataset (generate --look photo_varied, then render_dataset.py, which copies look.json)",
+            path.display()
+        )
+    })?;
+    let look: serde_json::Value = serde_json::from_str(&text)
+        .with_context(|| format!("{}: not JSON; regenerate the dataset", path.display()))?;
+    look.get("seed")
+        .and_then(serde_json::Value::as_u64)
+        .with_context(|| {
+            format!(
+                "{}: no integer \"seed\"; regenerate the dataset with generate --look photo_varied",
+                path.display()
+            )
+        })
+}
+
+/// blockworld's own varied look of each scene, in the draw its `look.json` seeds, through the
+/// pipeline (the cameras are the draw's, as the pictures' are).
+fn own_varied_runs(
+    renderer: &Renderer,
+    scenes: &[PictureScene],
+    opts: &PipelineOptions,
+) -> anyhow::Result<Vec<blockworld::pipeline::SceneRun>> {
+    scenes
+        .iter()
+        .map(|s| {
+            let mut o = opts.clone();
+            o.render.seed = look_seed(s)?;
+            Ok(run_scene(renderer, &s.id, &s.truth, &o))
         })
         .collect()
 }
@@ -366,5 +420,33 @@ mod tests {
             t.contains("| p | 3 | 1 (33%) | 1 (33%) | 1 (33%) | 0 | 2 of 4 |"),
             "{t}"
         );
+    }
+
+    /// A varied-look picture folder must carry the scene's look.json with its seed: a missing
+    /// file and one without a seed are named with the fix; a seed beyond i64 is read whole.
+    #[test]
+    fn a_varied_scene_needs_its_look_json_seed() {
+        let dir = tempfile::tempdir().unwrap();
+        let (folder, truth) = scene_folder(dir.path(), Projection::Orthographic);
+        let s = PictureScene {
+            id: "s000000".into(),
+            truth,
+            folder: folder.clone(),
+        };
+        let e = format!("{:#}", look_seed(&s).unwrap_err());
+        assert!(
+            e.contains("look.json: missing") && e.contains("render_dataset.py"),
+            "{e}"
+        );
+        std::fs::write(
+            folder.join("look.json"),
+            r#"{"format": "blockworld-look/1"}"#,
+        )
+        .unwrap();
+        let e = format!("{:#}", look_seed(&s).unwrap_err());
+        assert!(e.contains("no integer \"seed\""), "{e}");
+        let seed = r#"{"format": "blockworld-look/1", "seed": 13606263358458041519}"#;
+        std::fs::write(folder.join("look.json"), seed).unwrap();
+        assert_eq!(look_seed(&s).unwrap(), 13_606_263_358_458_041_519);
     }
 }
