@@ -400,7 +400,7 @@ fn scene_looks(suite: &[(String, Scene)], render: &RenderOptions, seed: u64) -> 
 /// The per-factor table: for every factor of the varied look and each of its bins, the
 /// supported scenes drawn in it and how many came out exact, declined or confidently wrong
 /// (docs/varied-look.md "Factors and bins").
-fn factor_table(results: &[SceneResult], looks: &[LookDraw]) -> String {
+pub(crate) fn factor_table(results: &[SceneResult], looks: &[LookDraw]) -> String {
     let mut t = String::from(
         "| factor | bin | supported scenes | exact | declined | confidently wrong |\n|---|---|---|---|---|---|\n",
     );

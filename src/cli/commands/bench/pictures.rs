@@ -107,6 +107,9 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
         });
     }
     print!("{}", side_by_side(&sources));
+    if varied {
+        print!("{}", factor_tables(&scenes, &render, &sources)?);
+    }
     print!(
         "{}",
         super::accuracy::family_table(&summarize_by_family(&sources[0].results))
@@ -176,6 +179,31 @@ fn look_seed(s: &PictureScene) -> anyhow::Result<u64> {
                 path.display()
             )
         })
+}
+
+/// The per-factor table of every source (docs/varied-look.md "Accuracy per factor"), the
+/// scenes binned by their draws (each re-drawn from its `look.json` seed).
+fn factor_tables(
+    scenes: &[PictureScene],
+    render: &RenderOptions,
+    sources: &[Source],
+) -> anyhow::Result<String> {
+    let mut looks = Vec::new();
+    for s in scenes {
+        let seed = look_seed(s)?;
+        let opts = RenderOptions { seed, ..*render };
+        looks.extend(opts.look_draw(s.truth.blocks.len()));
+    }
+    Ok(sources
+        .iter()
+        .map(|src| {
+            format!(
+                "{}:\n{}",
+                src.name,
+                super::accuracy::factor_table(&src.results, &looks)
+            )
+        })
+        .collect())
 }
 
 /// blockworld's own varied look of each scene, in the draw its `look.json` seeds, through the
