@@ -133,20 +133,30 @@ pub fn echo_number(value: f64) -> String {
 /// byte-order mark is named as such (JSON forbids it; many Windows editors add it) and invalid
 /// UTF-8 gives the byte offset of the first bad byte. Both are `InvalidData` errors.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
+    let why = "more than any scene, camera or drawing file (a million blocks take about 60 MiB); \
+               give the right file";
+    read_text_at_most(path, MAX_TEXT_BYTES, why)
+}
+
+/// [`read_text`] of a file of at most `max_bytes`: a larger regular file is refused before it
+/// is read, an endless one (`/dev/zero`) once `max_bytes` are read; the error says the bound
+/// and `why` (why no right file is larger, and the fix).
+pub fn read_text_at_most(path: &Path, max_bytes: u64, why: &str) -> std::io::Result<String> {
     use std::io::Read;
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)?
-        .take(MAX_TEXT_BYTES + 1)
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > MAX_TEXT_BYTES {
-        return Err(std::io::Error::new(
+    let file = std::fs::File::open(path)?;
+    let too_large = || {
+        std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!(
-                "is larger than {} MiB, more than any scene, camera or drawing file (a million \
-                 blocks take about 60 MiB); give the right file",
-                MAX_TEXT_BYTES >> 20
-            ),
-        ));
+            format!("is larger than {} MiB, {why}", max_bytes >> 20),
+        )
+    };
+    if file.metadata()?.len() > max_bytes {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    file.take(max_bytes + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
     }
     text_from_bytes(bytes)
 }

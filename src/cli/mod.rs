@@ -41,34 +41,62 @@ pub enum Command {
     /// Settle, render, see, recognize, score and export scenes/thesis_sample.json.
     Demo(commands::demo::Args),
     /// Render the four corner views of a scene and their ground truth.
+    ///
+    /// Limits (docs/limits.md "Render"): at most 10000 blocks; --size at most 8192 px a side
+    /// and no more pixels than the device reads back (about 52 Mpx with lavapipe); a written
+    /// picture (after --downsample) at least 8 px a side.
     Render(commands::render::Args),
     /// Settle a scene with rapier3d and report whether it rests stably.
+    ///
+    /// Limits (docs/limits.md "Settle and plan"): at most 2000 blocks.
     Settle(commands::settle::Args),
     /// Generate a synthetic dataset of settled, rendered scenes.
+    ///
+    /// Limits (docs/limits.md "Generate"): --count up to 18446744073709551615 (scenes are
+    /// written as they are made, memory stays small), --jobs at most 1024, at most 128
+    /// trajectory pictures per scene, and the picture bounds of `render`.
     Generate(commands::generate::Args),
     /// Join shard manifests of a dataset and check nothing is missing or doubled.
     Merge(commands::merge::Args),
     /// The order a robot takes a reconstruction's blocks away, verified with rapier, with grasps (thesis Ch. VII).
+    ///
+    /// Limits (docs/limits.md "Settle and plan"): at most 100 blocks.
     Plan(commands::plan::Args),
     /// Score a reconstruction against ground truth (parry3d volume overlap).
+    ///
+    /// Limits (docs/limits.md "Score"): at most 2000 blocks in each file.
     Score(commands::score::Args),
     /// Sobel edge detection with 3x3 smoothing and a threshold (thesis Ch. II, VI).
+    ///
+    /// Limits (docs/limits.md "Edges and vertices"): a picture of at most 8192 px a side.
     Edges(commands::edges::Args),
     /// Lines, vertices and six-bit codes of a view (thesis Ch. IV, V).
+    ///
+    /// Limits (docs/limits.md "Edges and vertices"): a picture of at most 8192 px a side
+    /// and at most 200 x (width + height) edge pixels.
     Vertices(commands::vertices::Args),
     /// Recognize the blocks of rendered views (thesis Ch. IV-V): a reconstruction file.
     Recognize(commands::recognize::Args),
     /// Recognize and score every scene of a dataset: the folder `report --recognitions` reads.
     RecognizeDataset(commands::recognize_dataset::Args),
     /// A static web site of a dataset and the recognizer's answers on it (docs/report.md).
+    ///
+    /// Limits (docs/limits.md "Datasets"): a manifest of at most 1024 MiB (about 580,000
+    /// scenes).
     Report(commands::report::Args),
     /// Export a scene as a glTF 2.0 model (.glb, or .gltf + .bin) in metres, y up.
+    ///
+    /// Limits (docs/limits.md "Export"): each input file at most 128 MiB; the work grows in
+    /// proportion to the blocks.
     Export(commands::export::Args),
     /// Kanade's line labelling: junction catalog, Waltz filtering, every consistent labelling.
     Label(commands::label::Args),
     /// Kanade's model against the modified model on the same drawings (thesis Figs. 6.17, 6.18).
     Compare(commands::compare::Args),
     /// Export a dataset for wireframe parsers (HAWP, L-CNN, LETR) or vision tools (COCO, Hugging Face).
+    ///
+    /// Limits (docs/limits.md "Datasets"): a manifest of at most 1024 MiB (about 580,000
+    /// scenes); --split from 0 to 1.
     ExportDataset(commands::export_dataset::Args),
     /// Benchmarks that print tables.
     Bench(commands::bench::Args),
@@ -106,6 +134,25 @@ pub fn check_number(flag: &str, value: f64, ok: bool, takes: &str) -> anyhow::Re
     anyhow::bail!(
         "{flag} {} is out of range; {takes}",
         blockworld::io::echo_number(value)
+    )
+}
+
+/// Refuses an input of more than `max` blocks, before any work (exit 2): names the file, its
+/// blocks, the bound of `command` and its docs/limits.md heading `section`.
+pub fn check_block_count(
+    path: &std::path::Path,
+    blocks: usize,
+    max: usize,
+    command: &str,
+    section: &str,
+) -> anyhow::Result<()> {
+    if blocks <= max {
+        return Ok(());
+    }
+    anyhow::bail!(
+        "{}: {blocks} blocks, more than the {max} `{command}` takes ({} \"{section}\"); split the scene into smaller ones",
+        path.display(),
+        "docs/limits.md"
     )
 }
 

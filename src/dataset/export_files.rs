@@ -16,7 +16,7 @@ pub(super) const PARTS_DIR: &str = ".parts";
 
 /// Reads `DATASET/manifest.jsonl`.
 pub(super) fn read_manifest(path: &Path) -> Result<Vec<u8>, DatasetError> {
-    std::fs::read(path).map_err(|e| DatasetError::Input {
+    super::read_manifest_text(path).map(String::into_bytes).map_err(|e| DatasetError::Input {
         path: path.to_path_buf(),
         message: format!("{e}; finish the dataset first (re-run its `blockworld generate`, or `blockworld merge` for shards)"),
     })

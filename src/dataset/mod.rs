@@ -34,7 +34,10 @@ pub use generate::{
     draw_scene, draw_stable_scene, scene_id, scene_seed, wants_stable, DrawnScene, SceneSpec,
     StabilityOptions, MAX_ATTEMPTS,
 };
-pub use manifest::{parse_manifest, sha256_hex, ManifestEntry, MANIFEST_NAME};
+pub use manifest::{
+    parse_manifest, read_manifest_text, sha256_hex, ManifestEntry, MANIFEST_NAME,
+    MAX_MANIFEST_BYTES,
+};
 pub use memory::keep_freed_pictures_in_heap;
 pub use perturb::{perturb, Perturbation};
 pub use shard::{Shard, ShardError};
@@ -42,6 +45,6 @@ pub use vision_export::{export_vision, VisionExportSummary, VisionFormat};
 pub use wireframe::{export_wireframes, WireframeExportOptions, WireframeExportSummary};
 pub use writer::{
     generate_dataset, merge_shards, merge_shards_with_progress, DatasetOptions, GenerateSummary,
-    MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE, FALL_FILE,
+    MergeSummary, SceneFileEncoder, StageTimes, DATASET_FILE, DONE_FILE, FALL_FILE, MAX_JOBS,
     TRAJECTORY_FILE,
 };

@@ -64,6 +64,10 @@ fn is_one(v: &u32) -> bool {
     *v == 1
 }
 
+/// Most blocks `render` takes per scene (docs/limits.md "Render"): one view of 10,000 blocks
+/// renders with its ground truth in about 40 s at 360 MB (debug build, lavapipe).
+pub const MAX_RENDER_BLOCKS: usize = 10_000;
+
 /// Narrowest side, in px, of a picture blockworld writes (after `--downsample`): the vision
 /// front end needs a few pixels either side of a line, and a smaller picture shows no block.
 pub const MIN_PICTURE_SIDE_PX: u32 = 8;

@@ -41,6 +41,7 @@ pub use suite::{
 };
 pub use verdict::{
     score_reconstruction, score_reconstruction_with_options, Score, ScoreOptions, Verdict,
+    MAX_SCORE_BLOCKS,
 };
 pub use volume::{
     union_volume_mm3, volume_iou, volume_iou_with_tolerances, volume_overlap, VolumeOverlap,

@@ -50,6 +50,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.recon.display()
         );
     }
+    let max = blockworld::physics::MAX_PLAN_BLOCKS;
+    let section = "Settle and plan";
+    crate::cli::check_block_count(&args.recon, recon.blocks.len(), max, "plan", section)?;
     let params = PlanParams::default();
     let outcome = plan_disassembly(&recon.blocks, &params)
         .with_context(|| format!("planning {}", args.recon.display()))?;

@@ -54,7 +54,7 @@ struct Recognized {
 /// Reads `DATASET/manifest.jsonl`, naming the file and the fix when it is missing or damaged.
 pub(super) fn read_dataset_manifest(dataset: &Path) -> anyhow::Result<Vec<ManifestEntry>> {
     let path = dataset.join(MANIFEST_NAME);
-    let text = std::fs::read_to_string(&path).with_context(|| {
+    let text = blockworld::dataset::read_manifest_text(&path).with_context(|| {
         format!(
             "{}: cannot read it; give a dataset folder that `blockworld generate` (or `merge`) finished",
             path.display()

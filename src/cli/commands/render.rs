@@ -31,6 +31,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let backend = args.view.backend()?;
     let scene = crate::cli::files::read_scene_shown(&args.scene)
         .with_context(|| format!("reading scene {}", args.scene.display()))?;
+    let max = blockworld::render::MAX_RENDER_BLOCKS;
+    crate::cli::check_block_count(&args.scene, scene.blocks.len(), max, "render", "Render")?;
     let renderer = Renderer::new(backend).context("starting the renderer")?;
     renderer.check_options(&opts).context("--size")?;
     // Each view's line drawing counts the scene's edges twice (hidden lines, then their kinds);

@@ -36,6 +36,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => read_reconstruction(&args.recon)
             .with_context(|| format!("reading the reconstruction {}", args.recon.display()))?,
     };
+    let max = blockworld::score::MAX_SCORE_BLOCKS;
+    crate::cli::check_block_count(&args.truth, truth.blocks.len(), max, "score", "Score")?;
+    crate::cli::check_block_count(&args.recon, recon.blocks.len(), max, "score", "Score")?;
     let score = score_reconstruction(&truth, &recon).with_context(|| {
         format!(
             "scoring {} against {}",

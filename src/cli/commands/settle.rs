@@ -33,6 +33,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     check_number("--turn-tol-deg", turn, turn >= 0.0, "use 0 degrees or more")?;
     crate::cli::files::check_output(&args.output, &[&args.scene])?;
     let scene = crate::cli::files::read_scene_shown(&args.scene)?;
+    let max = blockworld::physics::MAX_SETTLE_BLOCKS;
+    let section = "Settle and plan";
+    crate::cli::check_block_count(&args.scene, scene.blocks.len(), max, "settle", section)?;
     let params = SettleParams {
         drift_tol_mm: args.drift_tol_mm,
         turn_tol_deg: args.turn_tol_deg,

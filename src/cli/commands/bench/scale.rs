@@ -27,8 +27,9 @@ pub struct Args {
 }
 
 /// The largest `--blocks` entry (docs/limits.md "Benchmarks"): the stack, its pictures and its
-/// line drawing are held in memory and every stage runs once per entry.
-pub const MAX_BLOCKS: usize = 10_000;
+/// line drawing are held in memory and every stage runs once per entry; `render`'s bound,
+/// [`blockworld::render::MAX_RENDER_BLOCKS`].
+pub const MAX_BLOCKS: usize = blockworld::render::MAX_RENDER_BLOCKS;
 
 /// `n` Baustein 15 in a cube-like stack: layers of k x k, k the cube root of `n` rounded up.
 pub fn grid_stack(n: usize) -> Scene {

@@ -30,9 +30,9 @@ pub struct Args {
     pub pybullet_script: std::path::PathBuf,
 }
 
-/// The largest `--grid` entry (docs/limits.md "Benchmarks"): settling costs more than in
-/// proportion to the blocks and their contacts (1,000 blocks 1.1 s, 2,000 4 s, 4,000 23 s).
-pub const MAX_GRID_BLOCKS: usize = 2_000;
+/// The largest `--grid` entry (docs/limits.md "Benchmarks"): `settle`'s bound,
+/// [`blockworld::physics::MAX_SETTLE_BLOCKS`].
+pub const MAX_GRID_BLOCKS: usize = blockworld::physics::MAX_SETTLE_BLOCKS;
 
 /// The peer benchmark's 12 cuboids (docs/benchmarks.md "Benchmarks"): a two-layer stack of two b30 and two
 /// b15 bridged by a b30 and a b15, two two-high columns of b7_5 and a two-high b15 tower. The
