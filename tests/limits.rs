@@ -230,3 +230,34 @@ fn manifests_past_the_size_bound_are_refused() {
         assert!(!Path::new(&out).exists(), "{args:?} wrote its output");
     }
 }
+
+/// One past the time budgets' bound (1,000,000 s, docs/limits.md "Labeller" and "Recognizer")
+/// and `export-dataset --split` past 1 are refused before any work, naming the flag and bound.
+#[test]
+fn budgets_and_shares_past_their_bound_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = common::root().join("tests/fixtures/vision/single_cube");
+    let lines = fixture.join("lines_ne.json").to_string_lossy().into_owned();
+    let fix = fixture.to_string_lossy().into_owned();
+    let r = dir.path().join("r.json").to_string_lossy().into_owned();
+    let out = dir.path().join("out").to_string_lossy().into_owned();
+    let cases: [(Vec<&str>, &str); 3] = [
+        (
+            vec!["label", &lines, "--time-budget-s", "1000001"],
+            "--time-budget-s 1000001 is out of range; use a positive number of seconds, at most 1000000",
+        ),
+        (
+            vec!["recognize", &fix, "-o", &r, "--time-budget-s", "1000001"],
+            "--time-budget-s 1000001 is out of range",
+        ),
+        (
+            vec!["export-dataset", &fix, "--format", "hawp", "-o", &out, "--split", "1.5"],
+            "--split 1.5 must lie in 0..=1",
+        ),
+    ];
+    for (args, says) in cases {
+        let err = fails_with_2(&blockworld(&args));
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    assert!(!Path::new(&r).exists() && !Path::new(&out).exists());
+}

@@ -35,7 +35,8 @@ pub struct Args {
     /// costs time in proportion to its group of junctions, never to the drawing).
     #[arg(long, default_value_t = LabelOptions::default().node_budget)]
     pub node_budget: u64,
-    /// Stop the search after this many seconds and report the count as a lower bound.
+    /// Stop the search after this many seconds (more than 0, at most 1000000) and report the
+    /// count as a lower bound.
     #[arg(long, default_value_t = LabelOptions::default().time_budget_s)]
     pub time_budget_s: f64,
 }
@@ -48,8 +49,9 @@ fn parse_catalog(s: &str) -> Result<Catalog, String> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let d = read_points_and_lines(&args.drawing)?;
     let budget_s = args.time_budget_s;
-    let takes = "use a positive number of seconds";
-    crate::cli::check_number("--time-budget-s", budget_s, budget_s > 0.0, takes)?;
+    let takes = "use a positive number of seconds, at most 1000000";
+    let ok = budget_s > 0.0 && budget_s <= 1e6;
+    crate::cli::check_number("--time-budget-s", budget_s, ok, takes)?;
     let opts = LabelOptions {
         catalog: args.catalog,
         boundary_occluding: args.boundary_occluding,

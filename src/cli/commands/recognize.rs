@@ -41,8 +41,9 @@ pub struct Args {
     /// `unsupported`, naming the budget; the suites' scenes need far fewer.
     #[arg(long, default_value_t = RecognizeOptions::default().node_budget)]
     pub node_budget: u64,
-    /// Stop the search for blocks after this many seconds and answer `unsupported`, naming
-    /// the budget (the node budget, the same on every machine, usually ends it first).
+    /// Stop the search for blocks after this many seconds (more than 0, at most 1000000) and
+    /// answer `unsupported`, naming the budget (the node budget, the same on every machine,
+    /// usually ends it first).
     #[arg(long, default_value_t = RecognizeOptions::default().time_budget_s)]
     pub time_budget_s: f64,
     /// The recording holds the reconstruction beside the truth when the folder has a
@@ -175,8 +176,9 @@ pub(super) fn recognize_folder(
 pub fn run(args: Args) -> anyhow::Result<()> {
     let views = crate::cli::view_args::parse_corner_views(&args.source.views)?;
     let budget_s = args.time_budget_s;
-    let takes = "use a positive number of seconds";
-    crate::cli::check_number("--time-budget-s", budget_s, budget_s > 0.0, takes)?;
+    let takes = "use a positive number of seconds, at most 1000000";
+    let ok = budget_s > 0.0 && budget_s <= 1e6;
+    crate::cli::check_number("--time-budget-s", budget_s, ok, takes)?;
     check_paths(&args, &views)?;
     args.rrd.check(&[&args.output])?;
     let opts = RecognizeOptions {

@@ -49,8 +49,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bail!(
             "{} is not stable (tolerances {} mm, {} deg):\n{moved}\nnothing written; fix the scene or pass --allow-drift to write the settled poses",
             args.scene.display(),
-            params.drift_tol_mm,
-            params.turn_tol_deg
+            blockworld::io::echo_number(params.drift_tol_mm),
+            blockworld::io::echo_number(params.turn_tol_deg)
         );
     }
     if !r.stable {
