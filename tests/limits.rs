@@ -261,3 +261,33 @@ fn budgets_and_shares_past_their_bound_are_refused() {
     }
     assert!(!Path::new(&r).exists() && !Path::new(&out).exists());
 }
+
+/// One past `render`'s `--size` bound (8192 px a side) and `generate`'s `--jobs` bound
+/// (`dataset::MAX_JOBS`) is refused before any work, naming the bound.
+#[test]
+fn sizes_and_jobs_past_their_bound_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out").to_string_lossy().into_owned();
+    let one = common::root().join("scenes/single_cube.json");
+    let one = one.to_string_lossy().into_owned();
+    let jobs = (blockworld::dataset::MAX_JOBS + 1).to_string();
+    let cases: [(Vec<&str>, String); 2] = [
+        (
+            vec![
+                "render", &one, "--views", "ne", "--size", "8193x8", "-o", &out,
+            ],
+            "each side must be 8..=8192 pixels".to_string(),
+        ),
+        (
+            vec![
+                "generate", "--count", "1", "--views", "", "--jobs", &jobs, "-o", &out,
+            ],
+            format!("--jobs {jobs}: at most {}", blockworld::dataset::MAX_JOBS),
+        ),
+    ];
+    for (args, says) in cases {
+        let err = fails_with_2(&blockworld(&args));
+        assert!(err.contains(&says), "{args:?}: {err}");
+        assert!(!Path::new(&out).exists(), "{args:?} wrote its output");
+    }
+}
