@@ -239,16 +239,11 @@ mod tests {
     }
 
     fn camera(scene: &Scene) -> Camera {
-        let pts: Vec<DVec3> = scene
-            .blocks
-            .iter()
-            .flat_map(|b| b.world_vertices())
-            .collect();
         let opts = CameraOptions {
             size_px: [64, 48],
             ..Default::default()
         };
-        Camera::frame(&pts, CornerView::Ne, &opts)
+        Camera::frame(&scene.world_vertices(), CornerView::Ne, &opts)
     }
 
     /// An id picture drawn from the silhouettes, upper block over lower (the top block is

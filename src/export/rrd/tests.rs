@@ -14,17 +14,12 @@ fn pair() -> Scene {
 }
 
 fn camera(projection: Projection, pixel_aspect: f64) -> Camera {
-    let points: Vec<DVec3> = pair()
-        .blocks
-        .iter()
-        .flat_map(|b| b.world_vertices())
-        .collect();
     let opts = CameraOptions {
         projection,
         pixel_aspect,
         ..CameraOptions::default()
     };
-    Camera::frame(&points, CornerView::Se, &opts)
+    Camera::frame(&pair().world_vertices(), CornerView::Se, &opts)
 }
 
 /// The pinhole of a perspective camera, applied in Rerun's way (camera axes right-up-back
