@@ -303,3 +303,16 @@ fn recognize_of_a_large_tiling_declines_within_its_search_budget() {
     assert!(stdout.contains(": 100 blocks in 1 layers ->"), "{stdout}");
     assert!(!stdout.contains("unsupported"), "{stdout}");
 }
+
+/// Regression: a number of 300 digits that clap rejects (`generate --count 999...9`) was
+/// quoted back in full; it is echoed short, with the flag, exit 2.
+#[test]
+fn rejected_long_numbers_are_echoed_short() {
+    let huge = "9".repeat(300);
+    let err = fails_with_2(&blockworld(["generate", "--count", &huge, "-o", "unused"]));
+    assert!(
+        err.contains("invalid value '1e300' for '--count") && err.len() < 200,
+        "{err}"
+    );
+    assert!(!Path::new("unused").exists());
+}

@@ -156,13 +156,45 @@ pub fn check_block_count(
     )
 }
 
+/// `text` with each number longer than [`blockworld::io::MAX_ECHO_CHARS`] characters echoed
+/// short ([`blockworld::io::echo_number`]): clap's usage errors quote rejected values as typed.
+fn shorten_long_numbers(text: &str) -> String {
+    let is_part = |c: char| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-');
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit() || c == '-' || c == '+') {
+        out.push_str(&rest[..start]);
+        let len = rest[start..]
+            .find(|c: char| !is_part(c))
+            .unwrap_or(rest.len() - start);
+        let token = &rest[start..start + len];
+        match token.parse::<f64>() {
+            Ok(v) if len > blockworld::io::MAX_ECHO_CHARS => {
+                out.push_str(&blockworld::io::echo_number(v))
+            }
+            _ => out.push_str(token),
+        }
+        rest = &rest[start + len..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// The binary's entry: parses argv, runs, prints the error chain once and returns exit code 2
 /// on error (clap reports usage errors itself, also with 2).
 pub fn main() -> std::process::ExitCode {
     headless::quiet_device_select_without_session();
     stdout::exit_cleanly_on_stdout_panics();
     blockworld::dataset::keep_freed_pictures_in_heap();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // clap echoes a rejected value as typed: a number of 300 digits is shown short.
+            eprint!("{}", shorten_long_numbers(&e.render().to_string()));
+            return std::process::ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+        }
+        Err(e) => e.exit(),
+    };
     match run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(err) if stdout::is_stdout_closed(&err) => std::process::ExitCode::SUCCESS,
