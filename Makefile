@@ -41,7 +41,7 @@ PREFIX ?= $(HOME)/.cargo
 # The peers of `blockworld bench peers` (bench/peers/requirements.txt) live in this venv.
 PEERS_VENV := target/peers-venv
 
-.PHONY: setup demo test lint ci bless slurm-up slurm-down install peers docs benchmarks blender report-screenshots
+.PHONY: setup demo test test-rrd lint ci bless slurm-up slurm-down install peers docs benchmarks blender report-screenshots rerun-screenshot
 
 # Installs the Vulkan loader and lavapipe only when absent (needs root, or sudo).
 setup:
@@ -126,6 +126,26 @@ test: setup
 		$(CARGO) test --all-targets && \
 	BLOCKWORLD_REQUIRE_GPU=1 $(CARGO) test --doc && \
 	$(CARGO) run --quiet --example recognize_scene -- scenes/two_layer.json
+
+# The Rerun recordings' tests (tests/rrd.rs) with the `rrd` feature built: rerun-sdk reads the
+# recordings back (docs/rerun.md "Check"). Apart from `make test` for its build cost
+# (docs/rerun.md "Build cost"); .ci/run runs it after `make test`.
+test-rrd: setup
+	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_RERUN=1 $(CARGO) test --features rrd --test rrd
+
+# Rewrites docs/rerun_viewer.png (docs/rerun.md "Viewer screenshot"): the thesis sample rendered
+# with --rrd, served by the rerun-sdk wheel's web viewer, shot in headless Chromium.
+RERUN_SHOTS := target/rerun-screenshot
+rerun-screenshot: setup
+	$(CARGO) build --quiet --features rrd
+	rm -rf $(RERUN_SHOTS) && mkdir -p $(RERUN_SHOTS)
+	target/debug/blockworld render scenes/thesis_sample.json -o $(RERUN_SHOTS)/views \
+		--projection perspective --fov 30 --size 256x240 --rrd $(RERUN_SHOTS)/sample.rrd
+	$(RERUN_VENV)/bin/rerun --serve-web $(RERUN_SHOTS)/sample.rrd \
+		--web-viewer-port 9090 --port 9876 > $(RERUN_SHOTS)/viewer.log 2>&1 & pid=$$!; \
+	sleep 5; node scripts/rerun_screenshot.js \
+		'http://127.0.0.1:9090?url=rerun%2Bhttp%3A%2F%2Flocalhost%3A9876%2Fproxy' \
+		docs/rerun_viewer.png 40; status=$$?; kill $$pid; exit $$status
 
 # Installs the `blockworld` command (release build) into $(PREFIX)/bin (docs/install.md).
 install:

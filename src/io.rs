@@ -142,6 +142,12 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
 /// is read, an endless one (`/dev/zero`) once `max_bytes` are read; the error says the bound
 /// and `why` (why no right file is larger, and the fix).
 pub fn read_text_at_most(path: &Path, max_bytes: u64, why: &str) -> std::io::Result<String> {
+    text_from_bytes(read_bytes_at_most(path, max_bytes, why)?)
+}
+
+/// The bytes of a file of at most `max_bytes` (a trajectory, a picture): the bound of
+/// [`read_text_at_most`] without its text checks.
+pub fn read_bytes_at_most(path: &Path, max_bytes: u64, why: &str) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let file = std::fs::File::open(path)?;
     let too_large = || {
@@ -158,7 +164,7 @@ pub fn read_text_at_most(path: &Path, max_bytes: u64, why: &str) -> std::io::Res
     if bytes.len() as u64 > max_bytes {
         return Err(too_large());
     }
-    text_from_bytes(bytes)
+    Ok(bytes)
 }
 
 /// Largest text input read, bytes (128 MiB): reading stops there, so `/dev/zero` or an endless

@@ -52,6 +52,16 @@ fn rrd_without_the_feature_exits_2_naming_it_before_any_work() {
         rrd.as_os_str(),
     ]);
     assert!(fails_with_2(&o).contains("rrd feature"));
+    let o = blockworld([
+        "export".as_ref(),
+        scene.as_os_str(),
+        "--format".as_ref(),
+        "rrd".as_ref(),
+        "-o".as_ref(),
+        rrd.as_os_str(),
+    ]);
+    assert!(fails_with_2(&o).contains("rrd feature"));
+    assert!(!rrd.exists());
 }
 
 /// The venv's Python with rerun-sdk, or `None` after a loud skip; a failure in CI or with
@@ -199,5 +209,71 @@ fn recognize_records_the_reconstruction_beside_the_truth() {
     fails_saying(
         &check(&python, &rrd, &dir, &["--recognized", &one_more]),
         "world/recognized/blocks",
+    );
+}
+
+/// `export SCENE --format rrd --trajectory trajectory.bin` of a stability dataset's falling
+/// scene puts every frame of the trajectory on the timeline `fall` (check_rrd_fall.py reads
+/// it back); the same recording checked against another scene's trajectory fails.
+#[cfg(feature = "rrd")]
+#[test]
+fn a_fall_reads_back_on_its_timeline() {
+    let Some(python) = rerun_python() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    let ds_s = ds.to_str().unwrap();
+    ok(blockworld([
+        "generate",
+        "--count",
+        "6",
+        "--seed",
+        "3",
+        "--views",
+        "",
+        "--keep-unstable",
+        "--trajectory",
+        "-o",
+        ds_s,
+    ]));
+    let manifest = std::fs::read_to_string(ds.join("manifest.jsonl")).unwrap();
+    let entries: Vec<serde_json::Value> = manifest
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let folder = |e: &serde_json::Value| ds.join(e["id"].as_str().unwrap());
+    let fall = entries
+        .iter()
+        .find(|e| e["stable"] == false)
+        .expect("seed 3 draws a fall among 6 scenes");
+    let (dir, rrd) = (folder(fall), tmp.path().join("fall.rrd"));
+    ok(blockworld([
+        "export".as_ref(),
+        dir.join("scene.json").as_os_str(),
+        "--format".as_ref(),
+        "rrd".as_ref(),
+        "--trajectory".as_ref(),
+        dir.join("trajectory.bin").as_os_str(),
+        "-o".as_ref(),
+        rrd.as_os_str(),
+    ]));
+    let check = |trajectory: &Path| {
+        Command::new(&python)
+            .arg(root().join("tests/python/check_rrd_fall.py"))
+            .arg(&rrd)
+            .arg(trajectory)
+            .output()
+            .expect("runs check_rrd_fall.py")
+    };
+    passes(&check(&dir.join("trajectory.bin")));
+    let other = entries
+        .iter()
+        .find(|e| e["id"] != fall["id"])
+        .expect("another scene");
+    let o = check(&folder(other).join("trajectory.bin"));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
     );
 }

@@ -306,3 +306,89 @@ fn bad_frame_options_exit_2_naming_the_flag() {
     let err = fails_with_2(&run_generate(&out, 2, &["--trajectory-every", "2"]));
     assert!(err.contains("--trajectory-views"), "{err}");
 }
+
+/// Two falls with the same glTF document whose buffers agree word for word within 1e-7 (the
+/// trajectory file keeps f32 poses, generate keyed the glTF from the simulation's f64: the
+/// metres can differ in the last bit).
+fn same_fall(a: &Path, b: &Path) {
+    let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+    let (a, b) = (
+        gltf::Glb::from_slice(&a).unwrap(),
+        gltf::Glb::from_slice(&b).unwrap(),
+    );
+    assert_eq!(a.json, b.json, "the glTF documents differ");
+    let words = |bin: &[u8]| -> Vec<f32> {
+        bin.chunks_exact(4)
+            .map(|w| f32::from_le_bytes(w.try_into().unwrap()))
+            .collect()
+    };
+    let (wa, wb) = (
+        words(a.bin.as_deref().unwrap()),
+        words(b.bin.as_deref().unwrap()),
+    );
+    assert_eq!(wa.len(), wb.len());
+    let apart = wa
+        .iter()
+        .zip(&wb)
+        .filter(|(x, y)| {
+            let d = (*x - *y).abs();
+            x.to_bits() != y.to_bits() && (d > 1e-7 || d.is_nan())
+        })
+        .count();
+    assert_eq!(apart, 0, "buffer words differ by more than 1e-7");
+}
+
+/// `export SCENE --trajectory trajectory.bin -o fall.glb` rebuilds the fall `generate --gltf`
+/// wrote (the same document, the same keyframes to f32's last bit); another scene's trajectory (another block count) and a trajectory with
+/// the thesis format are refused with exit 2, naming what is wrong, and nothing is written.
+#[test]
+fn export_rebuilds_the_fall_from_its_trajectory_and_refuses_a_foreign_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ds = tmp.path().join("ds");
+    generate(&ds, 6, &["--gltf"]);
+    let entries = manifest(&ds);
+    let folder = |e: &Value| ds.join(e["id"].as_str().unwrap());
+    let falls: Vec<&Value> = entries.iter().filter(|e| e["stable"] == false).collect();
+    assert!(!falls.is_empty(), "seed 3 draws a fall among 6 scenes");
+    let dir = folder(falls[0]);
+    let glb = tmp.path().join("fall.glb");
+    let export = |trajectory: &Path, out: &Path, extra: &[&str]| {
+        let mut args: Vec<std::ffi::OsString> = vec![
+            "export".into(),
+            dir.join("scene.json").into(),
+            "--trajectory".into(),
+            trajectory.into(),
+            "-o".into(),
+            out.into(),
+        ];
+        args.extend(extra.iter().map(Into::into));
+        blockworld(&args)
+    };
+    ok(export(&dir.join("trajectory.bin"), &glb, &[]));
+    same_fall(&glb, &dir.join("fall.glb"));
+    let blocks = |e: &Value| {
+        read_scene(&folder(e).join("scene.json"))
+            .unwrap()
+            .blocks
+            .len()
+    };
+    let foreign = entries
+        .iter()
+        .find(|e| blocks(e) != blocks(falls[0]))
+        .expect("two block counts among 6 scenes");
+    let other = tmp.path().join("other.glb");
+    let err = fails_with_2(&export(
+        &folder(foreign).join("trajectory.bin"),
+        &other,
+        &[],
+    ));
+    assert!(err.contains("poses for"), "{err}");
+    let prefix = tmp.path().join("thesis");
+    let err = fails_with_2(&export(
+        &dir.join("trajectory.bin"),
+        &prefix,
+        &["--format", "thesis"],
+    ));
+    assert!(err.contains("--trajectory"), "{err}");
+    assert!(!other.exists() && !prefix.with_file_name("thesis_vertices.txt").exists());
+}

@@ -121,6 +121,7 @@ pub fn write_recognize_recording(
         truth: truth.as_ref(),
         recognized: recognized.as_ref(),
         views,
+        fall: None,
     };
     write_recording(path, &data)
 }

@@ -45,7 +45,10 @@ pub fn scene_fall_to_glb(
     scene_fall_to_gltf(scene, times_s, frames)?.to_glb()
 }
 
-fn check_keyframes(
+/// Refuses keyframes that do not fit `scene`: no frame, a time count unlike the frame count,
+/// times negative or not strictly increasing (in f32), a frame without one pose per block, a
+/// non-finite or zero pose. Also the check of the Rerun fall timeline (`export::rrd`).
+pub(super) fn check_keyframes(
     scene: &Scene,
     times_s: &[f64],
     frames: &[Vec<(DVec3, DQuat)>],

@@ -14,7 +14,8 @@
 
 use super::catalog_match::bounds_mm;
 use super::compare::{catalog_merge, catalog_splits};
-use super::picture::{edge_profile, pictures_mismatch, ViewPicture};
+use super::edge_profile::{edge_profile, ViewPicture};
+use super::picture::pictures_mismatch;
 use super::verify::{compare_drawings, draw_hypothesis, mismatched_features};
 use super::{Camera, ObservedView};
 use crate::drawing::{LineDrawing, LineKind};

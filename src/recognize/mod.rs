@@ -29,6 +29,7 @@ mod catalog_match;
 mod compare;
 mod constraints;
 mod direct;
+mod edge_profile;
 mod parallelogram;
 mod picture;
 mod placement;

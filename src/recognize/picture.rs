@@ -21,189 +21,10 @@
 //! a difference between its redraw and the drawing is a failure of the front end or of the
 //! hypothesis.
 
+use super::edge_profile::{edge_profile, ViewPicture, CRACK_ALLOWANCE_MM, MIN_SHARE};
 use super::verify::{mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch};
-use super::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{
-    convex_hull, distance_to_segment_px, gray_at, inside_convex, median, noise_levels, DVec2, DVec3,
-};
-use image::GrayImage;
-
-/// A view's picture with its noise and scale, read once.
-#[derive(Debug, Clone, Copy)]
-pub struct ViewPicture<'a> {
-    /// The grayscale picture the view's drawing was read from (px, y up as in `geom`).
-    pub gray: &'a GrayImage,
-    /// The picture's noise sigma, gray levels ([`noise_levels`]).
-    pub noise_levels: f64,
-    /// Picture px per world mm at the camera's target, along the block axis drawn longest.
-    pub px_per_mm: f64,
-}
-
-impl<'a> ViewPicture<'a> {
-    /// `gray`, taken by `camera`, with its noise and scale measured.
-    pub fn new(gray: &'a GrayImage, camera: &Camera) -> ViewPicture<'a> {
-        let at = DVec3::from_array(camera.target_mm);
-        let centre = camera.picture_from_world(at).truncate();
-        let px_per_mm = [DVec3::X, DVec3::Y, DVec3::Z]
-            .iter()
-            .map(|&axis| {
-                camera
-                    .picture_from_world(at + axis)
-                    .truncate()
-                    .distance(centre)
-            })
-            .filter(|d| d.is_finite())
-            .fold(0.0, f64::max);
-        ViewPicture {
-            gray,
-            noise_levels: noise_levels(gray),
-            px_per_mm,
-        }
-    }
-
-    /// `true` when the point tolerance `tol_px` spans at most [`MAX_TOLERANCE_MM`] on the
-    /// blocks: only then does reading the picture decide between hypotheses as finely as the
-    /// drawings' check (docs/rendering.md "Photographic look": at 128 x 120 the 2 px are 2.7 mm).
-    pub fn fine_enough(&self, tol_px: f64) -> bool {
-        self.px_per_mm * MAX_TOLERANCE_MM >= tol_px
-    }
-
-    /// The smallest change across a line one sample must show, gray levels: at least
-    /// [`MIN_STEP_LEVELS`], and [`NOISE_MULTIPLE`] times the picture's noise.
-    pub fn min_step_levels(&self) -> f64 {
-        MIN_STEP_LEVELS.max(NOISE_MULTIPLE * self.noise_levels)
-    }
-}
-
-/// The picture is read only when the point tolerance spans at most this on the blocks, mm: an
-/// answer the picture lets through is placed to within the tolerance, and a catalog block's
-/// half height is 3.75 mm, so a tolerance of more than a millimetre could let an answer off
-/// by a visible fraction of a block through (a 512 x 480 corner view of the suite has about
-/// 3 px per mm; 128 x 120 has 0.75).
-pub const MAX_TOLERANCE_MM: f64 = 1.0;
-/// Smallest change across a confirmed edge at one sample, gray levels: a crack between flush
-/// tops of equal albedo darkens by about 3 levels in the photographic look (noise about 1).
-pub const MIN_STEP_LEVELS: f64 = 2.5;
-/// A sample's change must reach this many times the picture's noise (each side is the mean of
-/// two pixels, so the change has the noise's sigma; 2.5 sigma is crossed by 0.6% of samples
-/// of one sign, and [`MIN_SHARE`] asks for most of them).
-pub const NOISE_MULTIPLE: f64 = 2.5;
-/// Share of the samples along a line that must show the step (or the crack) to confirm it: a
-/// contact shadow can even two faces out over part of an edge.
-pub const MIN_SHARE: f64 = 0.5;
-/// A drawing line the redraw lacks is tolerated when its median step across is under this,
-/// gray levels, and no crack runs along it: Chapter VI's threshold of 80 on the smoothed Sobel
-/// magnitude (eq. 2.1; a sharp step of h levels gives 4h) answers to steps of 20 levels and
-/// more, so a line this weak was not seen by the thesis's threshold: the front end drew it
-/// from soft shading (a cast shadow's boundary within one face) or by the faint-edge step.
-pub const WEAK_STEP_LEVELS: f64 = 20.0;
-/// Lines shorter than this are fragments, px (no sample fits between their end margins).
-pub const FRAGMENT_PX: f64 = 2.0 * END_MARGIN_PX + 3.0;
-/// Ends of a line skipped by the samples, px (other edges meet there).
-pub const END_MARGIN_PX: f64 = 4.0;
-/// The line is looked for this far on either side of where it is drawn, px (the exact drawing
-/// is of the sharp solid, the picture of a bevelled one).
-pub const SEARCH_PX: f64 = 2.0;
-/// How much further apart a contact edge's end may lie in the picture than the point
-/// tolerance allows, mm: the photographed crack's half width (0.15 mm, docs/rendering.md "Photographic look": faces that touch draw back 0.15 mm each) plus the bevel beside it (0.05 mm) and as
-/// much again for the edge fit pulled into the crack's dark middle.
-pub const CRACK_ALLOWANCE_MM: f64 = 0.4;
-
-/// What the picture shows across one segment (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct EdgeProfile {
-    /// Samples read (1 px apart, [`END_MARGIN_PX`] clear of the ends).
-    pub samples: usize,
-    /// Where across the segment the step is strongest, px.
-    pub step_offset_px: f64,
-    /// Median signed step there (the mean of two pixels on the normal's side minus the mean
-    /// of two on the other), gray levels.
-    pub step_levels: f64,
-    /// Share of samples whose step has the median's sign and reaches the minimum.
-    pub step_share: f64,
-    /// Share of samples where a narrow line darker than both sides by the minimum runs (a
-    /// crack), at the offset where it is highest.
-    pub crack_share: f64,
-    /// The same at the offsets where the two sides are even (median step under the minimum):
-    /// a crack between faces alike, not the dark edge of a shadow's core beside its step.
-    pub even_crack_share: f64,
-}
-
-impl EdgeProfile {
-    /// `true` when the picture shows an edge along the segment (step or crack on at least
-    /// [`MIN_SHARE`] of the samples).
-    pub fn confirms(&self) -> bool {
-        self.samples > 0 && self.step_share.max(self.crack_share) >= MIN_SHARE
-    }
-
-    /// `true` when the picture shows no block edge along the segment: too short to read, or
-    /// no crack between even sides and a median step under [`WEAK_STEP_LEVELS`] (a shadow's
-    /// boundary within one face, a penumbra's ramp).
-    pub fn is_weak(&self) -> bool {
-        self.samples == 0
-            || (self.even_crack_share < MIN_SHARE && self.step_levels.abs() < WEAK_STEP_LEVELS)
-    }
-}
-
-/// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
-pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
-    let len = a.distance(b);
-    if len.is_nan() || len < FRAGMENT_PX {
-        return EdgeProfile::default();
-    }
-    let u = (b - a) / len;
-    let n = u.perp();
-    let min_step = picture.min_step_levels();
-    let at = |c: DVec2, d: f64| gray_at(picture.gray, c + n * d);
-    let centres: Vec<DVec2> = (0..)
-        .map(|k| END_MARGIN_PX + f64::from(k))
-        .take_while(|&t| t <= len - END_MARGIN_PX)
-        .map(|t| a + u * t)
-        .collect();
-    let mut best = EdgeProfile::default();
-    let steps = (2.0 * SEARCH_PX) as i32;
-    for k in 0..=2 * steps {
-        let o = f64::from(k) * 0.5 - SEARCH_PX;
-        let mut step = Vec::with_capacity(centres.len());
-        let mut crack = Vec::with_capacity(centres.len());
-        for &c in &centres {
-            let side = |s: f64| Some((at(c, o + s * 1.5)? + at(c, o + s * 2.5)?) / 2.0);
-            let (Some(plus), Some(minus)) = (side(1.0), side(-1.0)) else {
-                continue;
-            };
-            step.push(plus - minus);
-            let centre = [-0.5, 0.0, 0.5]
-                .iter()
-                .filter_map(|&d| at(c, o + d))
-                .fold(f64::INFINITY, f64::min);
-            crack.push(plus.min(minus) - centre);
-        }
-        if step.is_empty() {
-            continue;
-        }
-        let m = median(&mut step.clone()).unwrap_or(0.0);
-        let sign = if m < 0.0 { -1.0 } else { 1.0 };
-        let share = |v: &[f64], f: &dyn Fn(f64) -> bool| {
-            v.iter().filter(|&&x| f(x)).count() as f64 / v.len() as f64
-        };
-        let step_share = share(&step, &|s| s * sign >= min_step);
-        let crack_share = share(&crack, &|d| d >= min_step);
-        let better = (step_share, m.abs()) > (best.step_share, best.step_levels.abs());
-        if better || best.samples == 0 {
-            best.samples = step.len();
-            best.step_offset_px = o;
-            best.step_levels = m;
-            best.step_share = step_share;
-        }
-        best.crack_share = best.crack_share.max(crack_share);
-        if m.abs() < min_step {
-            best.even_crack_share = best.even_crack_share.max(crack_share);
-        }
-    }
-    best
-}
-
+use crate::geom::{convex_hull, distance_to_segment_px, inside_convex, DVec2, DVec3};
 /// The px per mm of a drawn line, from its world ends (`None` without them or when
 /// degenerate).
 fn px_per_mm(drawn: &LineDrawing, line: usize) -> Option<f64> {
@@ -571,12 +392,13 @@ pub fn pictures_mismatch(
 mod tests {
     use super::*;
     use crate::recognize::verify::{compare_drawings, draw_hypothesis, mismatched_features};
+    use crate::recognize::Camera;
     use crate::recognize::{
         recognize, recognize_in_pictures, views_of, CornerView, ObservedView, RecognizeOptions,
     };
     use crate::scene::Block;
     use crate::scene::ReconStatus;
-    use image::Luma;
+    use image::{GrayImage, Luma};
 
     /// A flat picture of `camera`'s size at `level`, with `paint` applied per pixel centre.
     fn picture(camera: &Camera, level: u8, paint: impl Fn(DVec2) -> Option<u8>) -> GrayImage {

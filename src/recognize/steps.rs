@@ -9,13 +9,12 @@ pub use super::catalog_match::{
 pub use super::compare::{choose_blocks, pool_candidates, PooledCandidate, SearchLimits};
 pub use super::constraints::curved_chain_lines;
 pub use super::direct::direct_hypothesis;
+pub use super::edge_profile::{edge_profile, EdgeProfile, ViewPicture};
 pub use super::parallelogram::{
     drop_below_mm, horizontal_axis_for, point_at_height_mm, ChainStop, Face, Parallelogram,
     ParallelogramSearch, TopCorner,
 };
-pub use super::picture::{
-    edge_profile, picture_check, pictures_mismatch, EdgeProfile, ViewPicture,
-};
+pub use super::picture::{picture_check, pictures_mismatch};
 pub use super::select::{select_vertices, SelectedVertex};
 pub use super::trapezoid::{sloped_faces, FaceGradient};
 pub use super::verify::{mismatched_features, ViewMismatch};

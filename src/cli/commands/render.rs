@@ -112,6 +112,7 @@ fn write_recording(
         truth: Some(scene),
         recognized: None,
         views,
+        fall: None,
     };
     crate::cli::rrd::write_recording(path, &data)
 }

@@ -1,11 +1,11 @@
 //! The entities of a recording: the world (floor, truth and recognized blocks), each camera's
 //! pose and pinhole, and each view's pictures and line drawing (docs/rerun.md "Entity tree").
 
-use super::{Picture, RecordingData, RrdError, ViewData};
+use super::{Fall, Picture, RecordingData, RrdError, ViewData, FALL_TIMELINE};
 use crate::camera::{Camera, DEPTH_UNITS_PER_MM};
 use crate::drawing::{LineDrawing, LineKind};
 use crate::export::mesh::{flat_mesh, METRES_PER_MM};
-use crate::geom::{bounds3, DVec3};
+use crate::geom::{bounds3, DQuat, DVec3};
 use crate::scene::Scene;
 use rerun::datatypes::{ChannelDatatype, ImageFormat, Quaternion};
 use rerun::RecordingStream;
@@ -97,15 +97,20 @@ pub(super) fn log_world(rec: &RecordingStream, data: &RecordingData) -> Result<(
     if let Some(scene) = data.truth {
         log_blocks(rec, BLOCKS_TRUTH, scene, TRUTH_RGB)?;
         log_block_classes(rec, scene)?;
+        match data.fall {
+            Some(fall) => log_fall(rec, scene, &fall)?,
+            None => log_poses(rec, BLOCKS_TRUTH, scene)?,
+        }
     }
     if let Some(scene) = data.recognized {
         log_blocks(rec, BLOCKS_RECOGNIZED, scene, RECOGNIZED_RGB)?;
+        log_poses(rec, BLOCKS_RECOGNIZED, scene)?;
     }
     Ok(())
 }
 
-/// One `Mesh3D` per block under `parent`, in block-local metres with the block's pose as the
-/// entity's `Transform3D`.
+/// One `Mesh3D` per block under `parent`, in block-local metres (its pose is the entity's
+/// `Transform3D`: [`log_poses`] or [`log_fall`]).
 fn log_blocks(
     rec: &RecordingStream,
     parent: &str,
@@ -119,24 +124,46 @@ fn log_blocks(
             .chunks_exact(3)
             .map(|t| [t[0], t[1], t[2]])
             .collect();
-        let path = format!("{parent}/{i}");
-        let c = block.center_mm * METRES_PER_MM;
-        let q = block.rotation();
         rec.log_static(
-            path.as_str(),
-            &rerun::Transform3D::from_translation([c.x as f32, c.y as f32, c.z as f32])
-                .with_quaternion(Quaternion::from_xyzw([
-                    q.x as f32, q.y as f32, q.z as f32, q.w as f32,
-                ])),
-        )?;
-        rec.log_static(
-            path.as_str(),
+            format!("{parent}/{i}"),
             &rerun::Mesh3D::new(mesh.positions_m)
                 .with_triangle_indices(triangles)
                 .with_vertex_normals(mesh.normals)
                 .with_albedo_factor(rerun::datatypes::Rgba32::from_rgb(rgb[0], rgb[1], rgb[2])),
         )?;
     }
+    Ok(())
+}
+
+/// A block's pose as Rerun's transform: centre in metres, rotation as a quaternion.
+fn block_transform(center_mm: DVec3, rotation: DQuat) -> rerun::Transform3D {
+    let c = center_mm * METRES_PER_MM;
+    let q = rotation.normalize();
+    rerun::Transform3D::from_translation([c.x as f32, c.y as f32, c.z as f32]).with_quaternion(
+        Quaternion::from_xyzw([q.x as f32, q.y as f32, q.z as f32, q.w as f32]),
+    )
+}
+
+/// Each block's pose under `parent`, once (static).
+fn log_poses(rec: &RecordingStream, parent: &str, scene: &Scene) -> Result<(), LogError> {
+    for (i, block) in scene.blocks.iter().enumerate() {
+        let pose = block_transform(block.center_mm, block.rotation());
+        rec.log_static(format!("{parent}/{i}"), &pose)?;
+    }
+    Ok(())
+}
+
+/// The truth's block poses at every frame of `fall`, on the timeline [`FALL_TIMELINE`] (s).
+fn log_fall(rec: &RecordingStream, scene: &Scene, fall: &Fall) -> Result<(), LogError> {
+    crate::export::animation::check_keyframes(scene, fall.times_s, fall.frames)
+        .map_err(RrdError::from)?;
+    for (&t, poses) in fall.times_s.iter().zip(fall.frames) {
+        rec.set_duration_secs(FALL_TIMELINE, t);
+        for (i, &(c, q)) in poses.iter().enumerate() {
+            rec.log(format!("{BLOCKS_TRUTH}/{i}"), &block_transform(c, q))?;
+        }
+    }
+    rec.reset_time();
     Ok(())
 }
 

@@ -1,7 +1,8 @@
 //! Rerun recordings (`.rrd`) of a scene, its corner views and a reconstruction (docs/rerun.md):
 //! the world in metres (blocks as flat-shaded meshes, the floor), each corner camera with its
 //! picture, depth, instance ids and exact line drawing, and the recognizer's blocks beside the
-//! truth. The one home of the `rerun` crate; built only with the `rrd` feature.
+//! truth, and a fall (a stability dataset's trajectory) on the timeline [`FALL_TIMELINE`]. The
+//! one home of the `rerun` crate; built only with the `rrd` feature.
 //!
 //! Plain data in, bytes out: [`recording_to_rrd`] returns the encoded recording and `cli` writes
 //! it. Entity tree, units and the orthographic cameras: docs/rerun.md "Entity tree".
@@ -10,6 +11,7 @@ mod entities;
 
 use crate::camera::Camera;
 use crate::drawing::LineDrawing;
+use crate::geom::{DQuat, DVec3};
 use crate::scene::Scene;
 
 pub use entities::{
@@ -19,7 +21,8 @@ pub use entities::{
 /// Why a recording could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum RrdError {
-    /// A block type whose faces cannot be made into a mesh.
+    /// A block type whose faces cannot be made into a mesh, or a fall whose keyframes do not
+    /// fit the truth's blocks.
     #[error(transparent)]
     Mesh(#[from] super::ExportError),
     /// A picture whose pixel count does not match its size.
@@ -77,9 +80,26 @@ pub struct RecordingData<'a> {
     pub recognized: Option<&'a Scene>,
     /// The corner views.
     pub views: Vec<ViewData<'a>>,
+    /// The truth's fall, when there is one: its blocks' poses are then logged at every frame
+    /// on the timeline [`FALL_TIMELINE`] instead of once.
+    pub fall: Option<Fall<'a>>,
 }
 
-/// Encodes `data` as a Rerun recording (`.rrd` bytes), every entity static (no timeline).
+/// The timeline of a fall, seconds from the start of the simulation.
+pub const FALL_TIMELINE: &str = "fall";
+
+/// A fall as the physics records it (`trajectory.bin`, docs/stability.md "Trajectories"):
+/// `frames[k][i]` is block `i`'s centre (mm) and rotation at `times_s[k]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Fall<'a> {
+    /// Time of each frame, s, strictly increasing.
+    pub times_s: &'a [f64],
+    /// Per frame, one pose per block of the truth.
+    pub frames: &'a [Vec<(DVec3, DQuat)>],
+}
+
+/// Encodes `data` as a Rerun recording (`.rrd` bytes), every entity static (no timeline) but
+/// the truth's block poses of a fall.
 pub fn recording_to_rrd(data: &RecordingData) -> Result<Vec<u8>, RrdError> {
     let sdk = |e: &dyn std::fmt::Display| RrdError::Sdk(e.to_string());
     let (rec, storage) = rerun::RecordingStreamBuilder::new("blockworld")

@@ -1,6 +1,6 @@
 use super::*;
 use crate::camera::{CameraOptions, CornerView, Projection};
-use crate::geom::DVec3;
+use crate::geom::{DQuat, DVec3};
 use crate::scene::Block;
 
 fn pair() -> Scene {
@@ -72,6 +72,7 @@ fn a_picture_of_the_wrong_size_is_refused() {
                 ids: None,
                 lines: None,
             }],
+            fall: None,
         }
     }
     let view = |pixels| with(&scene, &cam, pixels);
@@ -83,4 +84,35 @@ fn a_picture_of_the_wrong_size_is_refused() {
     let full = vec![0u8; (cam.size_px[0] * cam.size_px[1]) as usize];
     let bytes = recording_to_rrd(&view(&full)).unwrap();
     assert!(bytes.len() > full.len(), "{} bytes", bytes.len());
+}
+
+/// A fall whose frames do not hold one pose per block of the truth is refused, naming the
+/// frame; one that fits is recorded.
+#[test]
+fn a_fall_must_fit_the_truth() {
+    let scene = pair();
+    let poses: Vec<(DVec3, DQuat)> = scene
+        .blocks
+        .iter()
+        .map(|b| (b.center_mm, b.rotation()))
+        .collect();
+    let frames = vec![poses.clone(), poses[..1].to_vec()];
+    let times_s = [0.0, 1.0 / 30.0];
+    let data = |frames| RecordingData {
+        name: "pair",
+        truth: Some(&scene),
+        recognized: None,
+        views: vec![],
+        fall: Some(Fall {
+            times_s: &times_s,
+            frames,
+        }),
+    };
+    let err = recording_to_rrd(&data(&frames)).unwrap_err();
+    assert!(
+        err.to_string().contains("frame 1 has 1 poses for 2 blocks"),
+        "{err}"
+    );
+    let fits = vec![poses.clone(), poses];
+    assert!(!recording_to_rrd(&data(&fits)).unwrap().is_empty());
 }
