@@ -67,6 +67,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     inputs.extend(args.truth.iter().cloned());
     inputs.extend(args.trajectory.iter().cloned());
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    if args.trajectory.is_some() && args.truth.is_some() {
+        bail!("--trajectory with --truth: a fall is of one scene; leave out --truth");
+    }
     match args.format.to_ascii_lowercase().as_str() {
         "gltf" => {}
         "thesis" if args.trajectory.is_some() => {
@@ -135,9 +138,6 @@ fn gltf_files(args: &Args) -> anyhow::Result<(GltfFiles, usize)> {
         };
         return Ok((files, scene.blocks.len()));
     };
-    if args.trajectory.is_some() {
-        bail!("--trajectory with --truth: a fall is of one scene; leave out --truth");
-    }
     let truth = read_scene(truth_path)
         .with_context(|| format!("reading the truth scene {}", truth_path.display()))?;
     let recon = read_reconstruction(&args.scene)
@@ -179,9 +179,6 @@ fn run_rrd(args: &Args, inputs: &[&Path]) -> anyhow::Result<()> {
     crate::cli::files::check_output(&args.output, inputs)?;
     let (truth, recon) = match &args.truth {
         Some(t) => {
-            if args.trajectory.is_some() {
-                bail!("--trajectory with --truth: a fall is of one scene; leave out --truth");
-            }
             let truth = read_scene(t)
                 .with_context(|| format!("reading the truth scene {}", t.display()))?;
             let recon = read_reconstruction(&args.scene)
