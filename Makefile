@@ -129,7 +129,7 @@ test: setup
 
 # The Rerun recordings' tests (tests/rrd.rs) with the `rrd` feature built: rerun-sdk reads the
 # recordings back (docs/rerun.md "Check"). Apart from `make test` for its build cost
-# (docs/rerun.md "Build cost"): run by hand.
+# (docs/rerun.md "Build cost"); .ci/run calls it after `make test`.
 test-rrd: setup
 	BLOCKWORLD_REQUIRE_GPU=1 BLOCKWORLD_REQUIRE_RERUN=1 $(CARGO) test --features rrd --test rrd
 

@@ -98,10 +98,12 @@ pub fn write_recognize_recording(
         .iter()
         .map(|o| read_view_files(dir, o.camera.view.name()))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let sixteen = |p: &(u32, u32, Vec<u16>)| Picture {
-        size_px: [p.0, p.1],
-        pixels: p.2.as_slice(),
-    };
+    fn sixteen(p: &(u32, u32, Vec<u16>)) -> Picture<'_, u16> {
+        Picture {
+            size_px: [p.0, p.1],
+            pixels: p.2.as_slice(),
+        }
+    }
     let views = observed
         .iter()
         .zip(&files)

@@ -25,12 +25,19 @@ import sys
 import rerun.recording
 
 
-def column(table, entity, component):
+def cell(table, entity, component):
+    """The first logged cell of a component: the list of its instances."""
     name = f"/{entity}:{component}"
     if name not in table.column_names:
         return None
     values = [v for v in table.column(name).to_pylist() if v is not None]
     return values[0] if values else None
+
+
+def column(table, entity, component):
+    """The one instance of a component logged once (a pose, a pinhole, a picture's format)."""
+    c = cell(table, entity, component)
+    return c[0] if c else None
 
 
 def expected_intrinsics(cam):
@@ -110,7 +117,7 @@ def check_pictures(table, v, cam, folder, lines_count, failures):
     meter = column(table, f"{space}/depth", "DepthImage:meter")
     if meter is not None and abs(meter - cam["depth_units_per_mm"] * 1000) > 1e-3:
         failures.append(f"{space}/depth: meter {meter} != depth_units_per_mm * 1000")
-    strips = column(table, f"{space}/lines", "LineStrips2D:strips")
+    strips = cell(table, f"{space}/lines", "LineStrips2D:strips")
     if strips is None:
         failures.append(f"{space}/lines: no LineStrips2D")
     elif lines_count is not None and len(strips) != lines_count:
