@@ -16,6 +16,9 @@
 //!   [`CRACK_ALLOWANCE_MM`] further apart: a photographed crack has a width, and the faces
 //!   beside it draw back from the contact plane, so the front end's corner lies off the
 //!   solid's corner by up to that much.
+//! * At a corner of the redraw's outline, an observed point inside the redraw's convex hull
+//!   may lie [`ROUNDING_ALLOWANCE_MM`] further off: a block with rounded edges shows its
+//!   outline inside the sharp block's.
 //!
 //! The hypothesis itself is never read from the picture here: the picture only decides whether
 //! a difference between its redraw and the drawing is a failure of the front end or of the
@@ -45,6 +48,23 @@ fn point_allowance_px(drawn: &LineDrawing, p: usize, tol_px: f64) -> f64 {
         .map(|s| s * CRACK_ALLOWANCE_MM)
         .fold(0.0, f64::max);
     tol_px + extra
+}
+
+/// How far inside the redraw's outline the front end may find an outline corner of a block
+/// with rounded edges, mm: a 90-degree edge rounded by `r` shows its outline `r (sqrt 2 - 1)`
+/// inside the sharp edge's, and the step's blur moves it further in; 0.25 mm covers edges
+/// rounded by up to 0.5 mm (docs/recognizer-pictures.md "Rounded outlines").
+pub const ROUNDING_ALLOWANCE_MM: f64 = 0.25;
+
+/// The extra tolerance at point `p` of `drawn` for an observed point inside the outline, px:
+/// [`ROUNDING_ALLOWANCE_MM`] at a point a boundary line of the redraw ends at, else 0.
+fn rounding_allowance_px(drawn: &LineDrawing, p: usize) -> f64 {
+    (0..drawn.lines.len())
+        .filter(|&k| drawn.lines[k].contains(&p))
+        .filter(|&k| drawn.kinds.get(k) == Some(&crate::drawing::LineKind::Boundary))
+        .filter_map(|k| px_per_mm(drawn, k))
+        .map(|s| s * ROUNDING_ALLOWANCE_MM)
+        .fold(0.0, f64::max)
 }
 
 /// Two drawn pieces closer than this to each other's line lie on one world edge, mm.
@@ -97,7 +117,7 @@ pub fn picture_mismatch(
     let offsets = CrackOffsets::new(drawn, observed, &m, tol_px);
     // Lines explained once the crack allowance is granted to their ends.
     let wide_tol = (0..drawn.points.len())
-        .map(|p| point_allowance_px(drawn, p, tol_px))
+        .map(|p| point_allowance_px(drawn, p, tol_px).max(tol_px + rounding_allowance_px(drawn, p)))
         .fold(tol_px, f64::max);
     let wide = if wide_tol > tol_px {
         mismatched_features(drawn, observed, wide_tol)
@@ -165,8 +185,12 @@ struct CrackOffsets {
 
 impl CrackOffsets {
     fn new(drawn: &LineDrawing, observed: &LineDrawing, m: &ViewMismatch, tol_px: f64) -> Self {
+        let hull = convex_hull(&drawn.points);
         let crack_pair = |q: DVec2, drawn_p: usize| {
-            q.distance(drawn.points[drawn_p]) <= point_allowance_px(drawn, drawn_p, tol_px)
+            let d = q.distance(drawn.points[drawn_p]);
+            d <= point_allowance_px(drawn, drawn_p, tol_px)
+                || (d <= tol_px + rounding_allowance_px(drawn, drawn_p)
+                    && inside_convex(&hull, q, 0.0))
         };
         CrackOffsets {
             drawn: m
@@ -425,6 +449,48 @@ mod tests {
             Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0),
             Block::new("b15", DVec3::new(15.0, 7.5, 0.0), 0.0),
         ]
+    }
+
+    #[test]
+    fn an_outline_seen_inside_the_redraw_as_rounded_edges_show_it_is_explained_and_outside_not() {
+        let blocks = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let view = views_of(&blocks, &[CornerView::Ne]).remove(0);
+        let drawn = view.drawing;
+        let tol_px = RecognizeOptions::default().tol_px;
+        let centre =
+            drawn.points.iter().fold(DVec2::ZERO, |a, p| a + *p) / drawn.points.len() as f64;
+        let outline: Vec<usize> = (0..drawn.points.len())
+            .filter(|&p| rounding_allowance_px(&drawn, p) > 0.0)
+            .collect();
+        assert_eq!(outline.len(), 6, "a cube's outline is a hexagon");
+        // Past the plain tolerance, within the rounding allowance.
+        let allowance = rounding_allowance_px(&drawn, outline[0]);
+        let shift_px = tol_px + 0.8 * allowance;
+        let moved = |inward: f64| {
+            let mut d = drawn.clone();
+            for &p in &outline {
+                let to_centre = (centre - d.points[p]).normalize();
+                d.points[p] += to_centre * inward * shift_px;
+            }
+            d.kinds.clear();
+            d.edges.clear();
+            d.finalize();
+            d
+        };
+        let explained = |observed: &LineDrawing| {
+            let pic = inked(&view.camera, observed);
+            let picture = ViewPicture::new(&pic, &view.camera);
+            picture_mismatch(&drawn, observed, &picture, tol_px)
+                .counts()
+                .is_explained()
+        };
+        let inside = moved(1.0);
+        assert!(!mismatched_features(&drawn, &inside, tol_px)
+            .counts()
+            .is_explained());
+        assert!(explained(&inside));
+        // It can fail: the same outline as far outside the redraw is not a rounded edge.
+        assert!(!explained(&moved(-1.0)));
     }
 
     #[test]

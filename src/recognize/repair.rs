@@ -10,8 +10,13 @@
 //! (Chapter V's comparison of views): one candidate added, one block removed, one block
 //! replaced by a candidate it overlaps (a b15 that was half of a b30), or two touching blocks
 //! replaced by two candidates filling the same box (an L of three cells split the other way).
-//! Neighbours are redrawn and ranked by their drawing mismatch, and the best few are shown to
-//! the picture check; the first it explains is taken. The answer still passes every final
+//! Two more moves need no candidate: one block cut in two basic blocks filling its box (a b30
+//! into two b15, a b15 into two stacked b7_5: a crack the front end missed under a lamp) and
+//! two touching blocks joined into the one basic block filling both (a crack the front end
+//! read where there is none). A cut or join changes a crack in every view that sees it, so it
+//! may leave up to [`MAX_EXTRA_MISMATCH`] more drawing features per view; those neighbours are
+//! shown first. Neighbours are redrawn and ranked by their drawing mismatch, and the best few
+//! are shown to the picture check; the first it explains is taken. The answer still passes every final
 //! check (the views deciding the blocks, support), so a neighbour only replaces a hypothesis
 //! that would have been declined.
 
@@ -84,11 +89,30 @@ fn neighbours(
             sets.push(with_blocks(&h.blocks, &[i], &[c]));
         }
     }
+    let cuts = cuts_and_joins(h, &free);
     let blocks: Vec<Block> = candidates.iter().map(|c| c.block).collect();
     for (i, j, a, b) in pair_retilings(&h.blocks, &blocks) {
         sets.push(with_blocks(&h.blocks, &[i, j], &[a, b]));
     }
-    let bar = h.mismatch() + MAX_EXTRA_MISMATCH;
+    let cut_bar = h.mismatch() + MAX_EXTRA_MISMATCH * views.len();
+    let mut out = redrawn_within(cuts, cut_bar, views, limits);
+    out.extend(redrawn_within(
+        sets,
+        h.mismatch() + MAX_EXTRA_MISMATCH,
+        views,
+        limits,
+    ));
+    out
+}
+
+/// `sets` redrawn while the budget lasts, those leaving at most `bar` drawing features
+/// unexplained, fewest first (ties in the order of `sets`).
+fn redrawn_within(
+    sets: Vec<Vec<Block>>,
+    bar: usize,
+    views: &[ObservedView],
+    limits: &SearchLimits,
+) -> Vec<Hypothesis> {
     let mut redrawn: Vec<Hypothesis> = sets
         .into_iter()
         .take_while(|_| limits.budget.spend())
@@ -97,6 +121,28 @@ fn neighbours(
         .collect();
     redrawn.sort_by_key(Hypothesis::mismatch);
     redrawn
+}
+
+/// The blocks of `h` with one block cut in two basic blocks ([`halvings`]) or two touching
+/// blocks joined into one ([`joined`]), where `free` lets the new blocks stand
+/// (`free(block, replaced)`).
+fn cuts_and_joins(h: &Hypothesis, free: &dyn Fn(&Block, &[usize]) -> bool) -> Vec<Vec<Block>> {
+    let mut out = Vec::new();
+    for (i, b) in h.blocks.iter().enumerate() {
+        for halves in halvings(b) {
+            if halves.iter().all(|c| free(c, &[i])) {
+                out.push(with_blocks(&h.blocks, &[i], &halves));
+            }
+        }
+    }
+    for [i, j] in touching_pairs(&h.blocks, 2.0 * CONTACT_TOL_MM) {
+        if let Some(m) = joined(&h.blocks[i], &h.blocks[j]) {
+            if free(&m, &[i, j]) {
+                out.push(with_blocks(&h.blocks, &[i, j], &[m]));
+            }
+        }
+    }
+    out
 }
 
 /// A pooled candidate moved onto the blocks' faces ([`snapped_candidates`]).
@@ -155,6 +201,46 @@ fn snapped_candidates(blocks: &[Block], pool: &[PooledCandidate]) -> Vec<Snapped
         }
     }
     out
+}
+
+/// The basic catalog block (turned 0 or 90 degrees about +y) whose box is `lo..hi`, if any.
+fn basic_block_filling(lo: DVec3, hi: DVec3) -> Option<Block> {
+    let size = hi - lo;
+    crate::scene::basic_blocks().find_map(|t| {
+        [0.0, 90.0].into_iter().find_map(|yaw| {
+            let b = Block::new(t.id, (lo + hi) * 0.5, yaw);
+            let (l, h) = bounds_mm(&b);
+            ((h - l - size).abs().max_element() <= FILL_TOL_MM).then_some(b)
+        })
+    })
+}
+
+/// Every way to cut block `b` in two halves along an axis, each a basic catalog block (a b30
+/// into two b15, a b15 into two b7_5): the blocks a crack the front end missed would show.
+fn halvings(b: &Block) -> Vec<[Block; 2]> {
+    let (lo, hi) = bounds_mm(b);
+    let mid = (lo + hi) * 0.5;
+    (0..3)
+        .filter_map(|k| {
+            let (mut hi_a, mut lo_b) = (hi, lo);
+            hi_a[k] = mid[k];
+            lo_b[k] = mid[k];
+            Some([
+                basic_block_filling(lo, hi_a)?,
+                basic_block_filling(lo_b, hi)?,
+            ])
+        })
+        .collect()
+}
+
+/// The basic catalog block filling the box two touching blocks fill together, if they do.
+fn joined(a: &Block, b: &Block) -> Option<Block> {
+    let ((la, ha), (lb, hb)) = (bounds_mm(a), bounds_mm(b));
+    let (lo, hi) = (la.min(lb), ha.max(hb));
+    let filled = (hi - lo).element_product();
+    ((a.volume_mm3() + b.volume_mm3() - filled).abs() <= FILL_TOL_MM3)
+        .then(|| basic_block_filling(lo, hi))
+        .flatten()
 }
 
 /// `blocks` without those at `removed` (indices), with `added` appended.
@@ -294,6 +380,31 @@ mod tests {
         // A check that explains nothing takes no neighbour.
         let nothing = |_: &Hypothesis| false;
         assert!(repaired_in_pictures(&h, &pool, &views, &limits, &nothing).is_none());
+    }
+
+    #[test]
+    fn a_b30_cuts_into_two_b15_and_two_stacked_b7_5_join_into_a_b15() {
+        let b30 = b("b30", 15.0, 7.5, 7.5, 0.0);
+        let cuts = halvings(&b30);
+        assert_eq!(cuts.len(), 1, "a b30 halves only along its length");
+        let centres: Vec<f64> = cuts[0].iter().map(|c| c.center_mm.x).collect();
+        assert_eq!(cuts[0].map(|c| c.block_type.id), ["b15", "b15"]);
+        assert_eq!(centres, vec![7.5, 22.5]);
+        let b15 = b("b15", 7.5, 7.5, 7.5, 0.0);
+        let stacked = halvings(&b15);
+        assert_eq!(stacked.len(), 1, "a b15 halves only in height");
+        assert_eq!(stacked[0].map(|c| c.center_mm.y), [3.75, 11.25]);
+        let [lower, upper] = stacked[0];
+        assert_eq!(joined(&lower, &upper).map(|j| j.block_type.id), Some("b15"));
+        assert!(
+            halvings(&lower).is_empty(),
+            "no catalog block is half a b7_5"
+        );
+        // Two b15 side by side fill a b30 turned 90 degrees.
+        let beside = b("b15", 7.5, 7.5, 22.5, 0.0);
+        assert_eq!(joined(&b15, &beside).map(|j| j.block_type.id), Some("b30"));
+        let apart = b("b15", 7.5, 7.5, 37.5, 0.0);
+        assert!(joined(&b15, &apart).is_none(), "blocks apart fill no box");
     }
 
     #[test]
