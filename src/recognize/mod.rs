@@ -35,6 +35,7 @@ mod picture;
 mod placement;
 mod repair;
 mod select;
+mod set_aside;
 mod trapezoid;
 mod verify;
 
@@ -66,12 +67,23 @@ use crate::scene::ReconStatus;
 use answer::Decline;
 use catalog_match::touching_pairs;
 use compare::SearchLimits;
+use edge_profile::ViewPicture;
 use flow::{check_directions, check_drawing, drop_weak_off_axis_lines, final_checks};
 use flow::{find_hypothesis, normalize_views, placed_answer, read_pictures};
 
 /// Blocks closer than this in mm are one candidate, share a layer, touch, or rest on each
 /// other (far below any catalog size, far above the measurement error).
 pub(crate) const SAME_PLACE_TOL_MM: f64 = 0.5;
+
+/// The declines of four views that a shadow's edge or a face lit like the floor can cause, after
+/// which one view may be set aside (`set_aside`, docs/recognizer-pictures.md "One view set
+/// aside"); [`DECLINE_KINDS`] names.
+const SHADING_DECLINES: [&str; 4] = [
+    "not one direction",
+    "view not explained",
+    "no blocks",
+    "unclassified lines",
+];
 
 /// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
 /// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status
@@ -119,20 +131,37 @@ pub fn recognize_with_progress(
     let pictures = read_pictures(views, pictures, opts);
     let mut views = normalize_views(views);
     drop_weak_off_axis_lines(&mut views, &pictures, opts);
-    let views = &views[..];
+    let all = recognize_prepared(&views, &pictures, opts, progress);
+    let reason = all.reason.as_deref().unwrap_or_default();
+    if all.status == ReconStatus::Ok || !SHADING_DECLINES.contains(&decline_kind(reason)) {
+        return Ok(all);
+    }
+    let recognize =
+        |v: &[ObservedView], p: &[ViewPicture]| recognize_prepared(v, p, opts, progress);
+    Ok(set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize).unwrap_or(all))
+}
+
+/// The recognizer on views whose drawings are normalized and whose weak off-axis lines are
+/// dropped, with their pictures read (none: drawings alone).
+pub(super) fn recognize_prepared(
+    views: &[ObservedView],
+    pictures: &[ViewPicture],
+    opts: &RecognizeOptions,
+    progress: &dyn Fn(SearchProgress),
+) -> Recognition {
     let mut evidence = Evidence::default();
     let trapezoids = match check_directions(views, opts) {
         Ok(t) => t,
-        Err(d) => return Ok(Recognition::declined(d, evidence)),
+        Err(d) => return Recognition::declined(d, evidence),
     };
     let points = views.iter().map(|v| v.drawing.points.len()).sum();
     let budgets = (opts.node_budget, opts.time_budget_s);
     let budget = SearchBudget::new(budgets, budget::node_cost(points), progress);
     let search = (&SearchLimits::new(opts, &budget), trapezoids);
-    let h = find_hypothesis(views, opts, search, &pictures, &mut evidence);
+    let h = find_hypothesis(views, opts, search, pictures, &mut evidence);
     let h = match h {
-        Ok(h) => placed_answer(h, views, &pictures, opts.tol_px),
-        Err(d) => return Ok(Recognition::declined(d, evidence)),
+        Ok(h) => placed_answer(h, views, pictures, opts.tol_px),
+        Err(d) => return Recognition::declined(d, evidence),
     };
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {
         ev.unexplained_points = c.unexplained_points;
@@ -144,9 +173,9 @@ pub fn recognize_with_progress(
     if h.blocks.is_empty() {
         let lines = views.iter().map(|v| v.drawing.lines.len()).sum();
         let d = Decline::NoBlocks { points, lines };
-        return Ok(Recognition::declined(d, evidence));
+        return Recognition::declined(d, evidence);
     }
-    if let Some(d) = final_checks(&h, views, &pictures, opts) {
+    if let Some(d) = final_checks(&h, views, pictures, opts) {
         let placed = h
             .blocks
             .iter()
@@ -157,17 +186,17 @@ pub fn recognize_with_progress(
             }
             d => d,
         };
-        return Ok(Recognition::declined(d, evidence));
+        return Recognition::declined(d, evidence);
     }
     let blocks = h.blocks;
-    Ok(Recognition {
+    Recognition {
         layers: classify_layers(&blocks, SAME_PLACE_TOL_MM),
         touching: touching_pairs(&blocks, SAME_PLACE_TOL_MM),
         blocks,
         status: ReconStatus::Ok,
         reason: None,
         evidence,
-    })
+    }
 }
 
 /// The exact views of `blocks` from the corner views `which`, framed as `render` frames them:

@@ -249,7 +249,7 @@ pub const EXACT_OVERLAP: f64 = 0.99;
 
 /// The volume overlap (intersection over union) of block `b`'s box with itself moved
 /// horizontally by `shift` (x, z mm).
-fn overlap_after_shift(b: &Block, shift: DVec2) -> f64 {
+pub(super) fn overlap_after_shift(b: &Block, shift: DVec2) -> f64 {
     let (lo, hi) = bounds_mm(b);
     let size = hi - lo;
     let whole = size.x * size.y * size.z;
