@@ -75,15 +75,10 @@ use flow::{find_hypothesis, normalize_views, placed_answer, read_pictures};
 /// other (far below any catalog size, far above the measurement error).
 pub(crate) const SAME_PLACE_TOL_MM: f64 = 0.5;
 
-/// The declines of four views that a shadow's edge or a face lit like the floor can cause, after
-/// which one view may be set aside (`set_aside`, docs/recognizer-pictures.md "One view set
-/// aside"); [`DECLINE_KINDS`] names.
-const SHADING_DECLINES: [&str; 4] = [
-    "not one direction",
-    "view not explained",
-    "no blocks",
-    "unclassified lines",
-];
+/// The declines of four views that a cast shadow's edge causes (lines in no block direction,
+/// before any search), after which one view may be set aside (`set_aside`,
+/// docs/recognizer-pictures.md "One view set aside"); [`DECLINE_KINDS`] names.
+const SHADING_DECLINES: [&str; 2] = ["not one direction", "unclassified lines"];
 
 /// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
 /// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status

@@ -1,10 +1,10 @@
 //! One view set aside: Chapter V's comparison of views when one corner view shows lines no
-//! arrangement of blocks draws (the edge of a cast shadow, a face lit like the floor beside
-//! it) and the four views together are therefore not explained.
+//! block in one direction draws (the edge of a cast shadow, Chapter II's discontinuity of
+//! illumination) and Chapter VII's one-direction check therefore declines the four views.
 //!
-//! Taken only after the four views declined for what shading can cause (lines off every
-//! block axis, a view not explained, no block found, lines in no six-bit direction; never
-//! after Chapter VII's failure cases, an ambiguity or an imprecise place). Every view in turn
+//! Taken only after the four views declined before any search for lines in no block
+//! direction (what a cast shadow's edge causes; never after a view not explained, a failure
+//! case of Chapter VII, an ambiguity, an imprecise place or a spent budget). Every view in turn
 //! is left out and the others recognized alone. The answer is taken only when every view
 //! left out that gives an answer gives the same blocks, placed alike to an exact answer's
 //! precision (a second reading of their places, [`EXACT_OVERLAP`]), and no view contradicts
