@@ -50,6 +50,7 @@ fn neighbours(
     pool: &[PooledCandidate],
     views: &[ObservedView],
     limits: &SearchLimits,
+    cracks_resolved: bool,
 ) -> Vec<Hypothesis> {
     let candidates = snapped_candidates(&h.blocks, pool);
     let free = |c: &Block, except: &[usize]| {
@@ -89,7 +90,11 @@ fn neighbours(
             sets.push(with_blocks(&h.blocks, &[i], &[c]));
         }
     }
-    let cuts = cuts_and_joins(h, &free);
+    let cuts = if cracks_resolved {
+        cuts_and_joins(h, &free)
+    } else {
+        Vec::new()
+    };
     let blocks: Vec<Block> = candidates.iter().map(|c| c.block).collect();
     for (i, j, a, b) in pair_retilings(&h.blocks, &blocks) {
         sets.push(with_blocks(&h.blocks, &[i, j], &[a, b]));
@@ -321,8 +326,9 @@ pub(super) fn repaired_in_pictures(
     views: &[ObservedView],
     limits: &SearchLimits,
     explained: &dyn Fn(&Hypothesis) -> bool,
+    cracks_resolved: bool,
 ) -> Option<Hypothesis> {
-    neighbours(h, pool, views, limits)
+    neighbours(h, pool, views, limits, cracks_resolved)
         .into_iter()
         .take(MAX_PICTURE_CHECKS)
         .find(|n| explained(n))
@@ -374,12 +380,28 @@ mod tests {
         let far = b("b15", 45.0, 7.5, 45.0, 0.0);
         let pool = [pooled(far), pooled(off)];
         let explained = |n: &Hypothesis| n.mismatch() == 0;
-        let r = repaired_in_pictures(&h, &pool, &views, &limits, &explained).unwrap();
+        let r = repaired_in_pictures(&h, &pool, &views, &limits, &explained, true).unwrap();
         assert_eq!(r.blocks.len(), 3);
         assert!(r.blocks[2].center_mm.distance(truth[2].center_mm) < 1e-9);
         // A check that explains nothing takes no neighbour.
         let nothing = |_: &Hypothesis| false;
-        assert!(repaired_in_pictures(&h, &pool, &views, &limits, &nothing).is_none());
+        assert!(repaired_in_pictures(&h, &pool, &views, &limits, &nothing, true).is_none());
+    }
+
+    /// Two b15 answered as one b30: the cut repairs it where the pictures resolve cracks, and
+    /// is not tried where they do not.
+    #[test]
+    fn a_cut_is_tried_only_where_the_pictures_resolve_cracks() {
+        let truth = [b("b15", 7.5, 7.5, 7.5, 0.0), b("b15", 22.5, 7.5, 7.5, 0.0)];
+        let views = views_of(&truth, &CornerView::ALL);
+        let budget = unlimited();
+        let limits = limits(&budget);
+        let h = Hypothesis::new(vec![b("b30", 15.0, 7.5, 7.5, 0.0)], &views, limits.tol_px);
+        assert!(h.mismatch() > 0);
+        let explained = |n: &Hypothesis| n.mismatch() == 0;
+        let cut = repaired_in_pictures(&h, &[], &views, &limits, &explained, true).unwrap();
+        assert!(crate::scene::same_blocks(&cut.blocks, &truth, 1e-6));
+        assert!(repaired_in_pictures(&h, &[], &views, &limits, &explained, false).is_none());
     }
 
     #[test]
