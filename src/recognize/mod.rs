@@ -209,6 +209,23 @@ pub(crate) fn views_of(blocks: &[crate::scene::Block], which: &[CornerView]) -> 
         .collect()
 }
 
+/// A line-art picture of `drawing` through `camera`: ink (gray 40) within 0.8 px of every
+/// line on a floor of gray 150; the pictures of the recognizer's unit tests.
+#[cfg(test)]
+pub(crate) fn inked_picture(
+    camera: &Camera,
+    drawing: &crate::drawing::LineDrawing,
+) -> image::GrayImage {
+    let [w, h] = camera.size_px;
+    image::GrayImage::from_fn(w, h, |x, r| {
+        let p = crate::geom::DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
+        let near = drawing.lines.iter().any(|&[i, j]| {
+            crate::geom::distance_to_segment_px(p, drawing.points[i], drawing.points[j]) <= 0.8
+        });
+        image::Luma([if near { 40 } else { 150 }])
+    })
+}
+
 /// `b15` cubes of a 3 x 3 grid, 15 mm apart: the `layer`-th layer's cells `cells` (row-major,
 /// x fastest); the stacks of the recognizer's unit tests.
 #[cfg(test)]

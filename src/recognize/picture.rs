@@ -435,13 +435,7 @@ mod tests {
 
     /// Ink along every line of `d` (line art's drawn seams: a narrow dark line).
     fn inked(camera: &Camera, d: &LineDrawing) -> GrayImage {
-        picture(camera, 150, |p| {
-            let near = d
-                .lines
-                .iter()
-                .any(|&[i, j]| distance_to_segment_px(p, d.points[i], d.points[j]) <= 0.8);
-            near.then_some(40)
-        })
+        crate::recognize::inked_picture(camera, d)
     }
 
     fn two_cubes() -> Vec<Block> {

@@ -187,20 +187,10 @@ mod tests {
     use super::*;
     use crate::geom::DVec3;
     use crate::recognize::{recognize_in_pictures, views_of, CornerView, Recognition};
-    use image::{GrayImage, Luma};
+    use image::GrayImage;
 
-    /// Ink along every line of `d` on a gray floor (line art's drawn seams).
     fn inked(view: &ObservedView) -> GrayImage {
-        let d = &view.drawing;
-        let [w, h] = view.camera.size_px;
-        GrayImage::from_fn(w, h, |x, r| {
-            let p = DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
-            let near = d
-                .lines
-                .iter()
-                .any(|&[i, j]| distance_to_segment_px(p, d.points[i], d.points[j]) <= 0.8);
-            Luma([if near { 40 } else { 150 }])
-        })
+        crate::recognize::inked_picture(&view.camera, &view.drawing)
     }
 
     /// `view` with a line from `from` to `to` added to its drawing.
