@@ -14,7 +14,7 @@ use super::edge_profile::ViewPicture;
 use super::parallelogram::{Face, ParallelogramSearch};
 use super::picture::{pictures_mismatch, without_weak_lines};
 use super::placement::{imprecisely_placed, placed_by_all_views};
-use super::repair::repaired_in_pictures;
+use super::repair::{cracks_resolved, repaired_in_pictures};
 use super::select::select_vertices;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
 use super::verify::{blocks_drawn_in_excess, ViewCheck, ViewMismatch};
@@ -171,13 +171,6 @@ pub(super) fn propose_and_pool(
     pool
 }
 
-/// The local repair cuts a block in two or joins two (`repair`'s cut and join moves) only
-/// when every picture has at least this many px per mm: a crack the picture must confirm is a
-/// fraction of a millimetre wide, and in a held-out draw at 256 x 240 (about 1.5 px per mm) a
-/// shading step confirmed a crack that is not there (docs/recognizer-pictures.md "Cracks the
-/// front end missed: cut and joined blocks").
-const CUT_MIN_PX_PER_MM: f64 = 2.5;
-
 /// Step 4's choice. The direct path first, on the candidates read exactly from closed
 /// parallelograms: its hypothesis when its drawing explains every view, else the same without
 /// the blocks it draws in excess. Failing that, every candidate is pooled and the search
@@ -226,7 +219,7 @@ pub(super) fn find_hypothesis(
     if chosen.mismatch() == 0 || pictures.is_empty() || explained(&chosen) {
         return within(chosen);
     }
-    let cracks = pictures.iter().all(|p| p.px_per_mm >= CUT_MIN_PX_PER_MM);
+    let cracks = cracks_resolved(pictures);
     let repaired = repaired_in_pictures(&chosen, &pool, views, limits, &explained, cracks);
     let repaired = repaired.or_else(|| {
         // The same blocks have the same neighbours: tried once.

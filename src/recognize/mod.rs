@@ -123,9 +123,7 @@ pub fn recognize_with_progress(
         });
     }
     views.iter().try_for_each(check_drawing)?;
-    let pictures = read_pictures(views, pictures, opts);
-    let mut views = normalize_views(views);
-    drop_weak_off_axis_lines(&mut views, &pictures, opts);
+    let (views, pictures) = prepared(views, pictures, opts);
     let all = recognize_prepared(&views, &pictures, opts, progress);
     let reason = all.reason.as_deref().unwrap_or_default();
     if all.status == ReconStatus::Ok || !SHADING_DECLINES.contains(&decline_kind(reason)) {
@@ -134,6 +132,19 @@ pub fn recognize_with_progress(
     let recognize =
         |v: &[ObservedView], p: &[ViewPicture]| recognize_prepared(v, p, opts, progress);
     Ok(set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize).unwrap_or(all))
+}
+
+/// The views with their drawings normalized and their weak off-axis lines dropped, and their
+/// pictures read (none when any is too coarse): what [`recognize_prepared`] takes.
+pub(super) fn prepared<'a>(
+    views: &[ObservedView],
+    pictures: &[&'a image::GrayImage],
+    opts: &RecognizeOptions,
+) -> (Vec<ObservedView>, Vec<ViewPicture<'a>>) {
+    let pictures = read_pictures(views, pictures, opts);
+    let mut views = normalize_views(views);
+    drop_weak_off_axis_lines(&mut views, &pictures, opts);
+    (views, pictures)
 }
 
 /// The recognizer on views whose drawings are normalized and whose weak off-axis lines are

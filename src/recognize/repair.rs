@@ -22,6 +22,7 @@
 
 use super::catalog_match::{blocks_overlap, bounds_mm, touching_pairs};
 use super::compare::{corner_gain, Hypothesis, PooledCandidate, SearchLimits, FLUSH_TOL_MM};
+use super::edge_profile::ViewPicture;
 use super::ObservedView;
 use crate::geom::{DVec3, CONTACT_TOL_MM};
 use crate::scene::Block;
@@ -42,6 +43,18 @@ const ADDS_REDRAWN: usize = 24;
 
 /// Candidates put in place of one block, ranked as added ones, redrawn per block.
 const SWAPS_REDRAWN: usize = 3;
+
+/// The cut and join moves are tried only when every picture has at least this many px per
+/// mm: a crack the picture must confirm is a fraction of a millimetre wide, and in a held-out
+/// draw at 256 x 240 (about 1.5 px per mm) a shading step confirmed a crack that is not there
+/// (docs/recognizer-pictures.md "Cracks the front end missed: cut and joined blocks").
+pub const CUT_MIN_PX_PER_MM: f64 = 2.5;
+
+/// `true` when every one of `pictures` resolves a crack well enough for the cut and join
+/// moves ([`CUT_MIN_PX_PER_MM`]).
+pub(super) fn cracks_resolved(pictures: &[ViewPicture]) -> bool {
+    pictures.iter().all(|p| p.px_per_mm >= CUT_MIN_PX_PER_MM)
+}
 
 /// The neighbours of `h` (see the module doc), redrawn, in the order they are worth showing
 /// to the picture check: fewest drawing mismatches first, ties in the order of the moves.

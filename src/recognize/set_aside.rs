@@ -285,12 +285,9 @@ mod tests {
     /// The four views' answer alone, without any view set aside.
     fn recognize_prepared_only(views: &[ObservedView]) -> Recognition {
         let grays: Vec<GrayImage> = views.iter().map(inked).collect();
+        let refs: Vec<&GrayImage> = grays.iter().collect();
         let opts = RecognizeOptions::default();
-        let pictures: Vec<ViewPicture> = views
-            .iter()
-            .zip(&grays)
-            .map(|(v, g)| ViewPicture::new(g, &v.camera))
-            .collect();
-        super::super::recognize_prepared(views, &pictures, &opts, &|_| {})
+        let (views, pictures) = super::super::prepared(views, &refs, &opts);
+        super::super::recognize_prepared(&views, &pictures, &opts, &|_| {})
     }
 }
