@@ -586,7 +586,9 @@ fn a_slurm_array_of_four_tasks_merges_to_the_bytes_of_one_run() {
 
 /// SIGKILL one task of a real Slurm array mid-run (`scancel --batch --signal=KILL`); its shard
 /// is unfinished, the resubmitted task (`sbatch --array=1`) redoes only the missing scenes, and
-/// the merged dataset is the bytes of one unsharded run.
+/// the merged dataset is the bytes of one unsharded run. The scenes are rendered in the photo
+/// look so that a task's 60 scenes take seconds (scenes without pictures take about a
+/// millisecond each, faster than `scancel` reaches the task).
 #[test]
 fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
     if !slurm_available() {
@@ -594,11 +596,11 @@ fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let (whole, sharded) = (tmp.path().join("whole"), tmp.path().join("sharded"));
-    let opts = ["--views", ""];
+    let opts = ["--look", "photo"];
     let id = sbatch_generate("0-3", tmp.path(), &sharded, 240, &opts);
     let shard1 = sharded.join("manifest.shard-1-of-4.jsonl");
     for polls in 0.. {
-        if done_in_shard(&sharded, 1) >= 5 {
+        if done_in_shard(&sharded, 1) >= 2 {
             break;
         }
         assert!(!shard1.exists(), "task 1 finished before the kill");
@@ -623,7 +625,7 @@ fn a_slurm_task_killed_mid_run_resumes_when_resubmitted() {
     );
     assert!(!shard1.exists(), "task 1 finished before the kill");
     let kept = done_in_shard(&sharded, 1);
-    assert!((5..60).contains(&kept), "{kept} of 60 scenes done");
+    assert!((2..60).contains(&kept), "{kept} of 60 scenes done");
 
     let again = tmp.path().join("again");
     std::fs::create_dir(&again).unwrap();
