@@ -8,19 +8,24 @@
 //! recognize`, which keep the rendered views for their own output, call [`observe`] and
 //! [`recognize_rendered`], the same two steps [`run_scene`] takes, so every caller runs the
 //! recognizer as `blockworld recognize` does (with the pictures for step 6 when the drawings
-//! were read from them), and every answer must stand ([`recognize_standing`], module
-//! `stand`). Each stage's time is counted where the stage is called
+//! were read from them; a decline for what a missed line causes reads the pictures again
+//! fainter, [`read_again_fainter`], module `reread`), and every answer must stand
+//! ([`recognize_standing`], module `stand`). Each stage's time is counted where the stage is called
 //! ([`StageTimes`]), so benches print what the stages measured instead of re-running their
 //! steps. No file I/O.
 
+mod reread;
 mod stand;
 
+pub use reread::{read_again_fainter, Reading, FAINTER_THRESHOLDS, READ_AGAIN_AFTER};
 pub use stand::{check_answer_stands, recognize_standing, Standing};
 
-use crate::camera::CornerView;
+use crate::camera::{Camera, CornerView};
 use crate::csg::reconstruction;
+use crate::physics::SettleParams;
 use crate::recognize::{
-    equally_good_alternative, ObservedView, Recognition, RecognizeError, RecognizeOptions,
+    equally_good_alternative, recognize_in_pictures, ObservedView, Recognition, RecognizeError,
+    RecognizeOptions,
 };
 use crate::render::{RenderOptions, RenderedView, Renderer};
 use crate::scene::{Reconstruction, Scene};
@@ -194,11 +199,17 @@ pub fn recognize_rendered_standing(
     source: &DrawingSource,
     opts: &RecognizeOptions,
 ) -> Result<Standing, RecognizeError> {
-    let pictures: Vec<&image::GrayImage> = match source {
-        DrawingSource::Pictures(_) => rendered.iter().map(|v| &v.gray).collect(),
-        DrawingSource::Truth => Vec::new(),
+    let DrawingSource::Pictures(vision) = source else {
+        return recognize_standing(views, &[], opts);
     };
-    recognize_standing(views, &pictures, opts)
+    let pictures: Vec<&image::GrayImage> = rendered.iter().map(|v| &v.gray).collect();
+    let cameras: Vec<Camera> = rendered.iter().map(|v| v.camera).collect();
+    let first = recognize_in_pictures(views, &pictures, opts)?;
+    let reading = read_again_fainter(first, &pictures, &cameras, vision, opts);
+    Ok(check_answer_stands(
+        reading.recognition,
+        &SettleParams::default(),
+    ))
 }
 
 /// Renders `scene`, recognizes it and scores the answer against it (see the module doc).

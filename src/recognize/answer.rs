@@ -41,6 +41,11 @@ pub struct RecognizeOptions {
     pub node_budget: u64,
     /// Most seconds the search spends before declining; default [`DEFAULT_TIME_BUDGET_S`].
     pub time_budget_s: f64,
+    /// Each view's corners alone must place every block to an exact answer's precision
+    /// (`placement::misplaced_in_a_view`); default `false`, the views' corners together. A
+    /// second reading of fainter lines sets it (docs/recognizer-pictures.md "A second reading
+    /// of fainter lines").
+    pub every_view_places: bool,
 }
 
 /// The search's default node budget: the hardest scene of the suites and the accuracy gate
@@ -64,6 +69,7 @@ impl Default for RecognizeOptions {
             repair_rounds: 4,
             node_budget: DEFAULT_NODE_BUDGET,
             time_budget_s: DEFAULT_TIME_BUDGET_S,
+            every_view_places: false,
         }
     }
 }
@@ -137,6 +143,15 @@ pub enum Decline {
         block: usize,
         /// Length of the group's fitted horizontal shift, mm.
         shift_mm: f64,
+    },
+    /// One view's corners alone put a block off its place by more than an exact answer allows
+    /// ([`RecognizeOptions::every_view_places`]).
+    #[error("block {block} is not placed to an exact answer's precision by view {view} alone (when lines are set aside or read again fainter, every view's corners must place each block)")]
+    ImpreciseInAView {
+        /// Index of the block in the hypothesis.
+        block: usize,
+        /// The view whose corners put it off.
+        view: String,
     },
     /// No block in any view: an answer without blocks explains nothing.
     #[error("no block found in the views ({points} points, {lines} lines drawn in all): an answer without blocks explains nothing; give views that show the blocks, pictures at least 8 px a side (docs/limits.md \"Render\")")]

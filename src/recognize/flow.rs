@@ -13,7 +13,7 @@ use super::direct::{direct_hypothesis_within, Silhouettes};
 use super::edge_profile::ViewPicture;
 use super::parallelogram::{Face, ParallelogramSearch};
 use super::picture::{pictures_mismatch, without_weak_lines};
-use super::placement::{imprecisely_placed, placed_by_all_views};
+use super::placement::{imprecisely_placed, misplaced_in_a_view, placed_by_all_views};
 use super::repair::{cracks_resolved, repaired_in_pictures};
 use super::select::select_vertices;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
@@ -314,6 +314,13 @@ pub(super) fn final_checks(
     if let Some((block, shift)) = imprecisely_placed(blocks, &h.drawn, views, opts.tol_px) {
         let shift_mm = shift.length();
         return Some(Decline::Imprecise { block, shift_mm });
+    }
+    if opts.every_view_places {
+        let misplaced = misplaced_in_a_view(blocks, &h.drawn, views, opts.tol_px);
+        if let Some((block, v)) = misplaced {
+            let view = views[v].camera.view.name().to_string();
+            return Some(Decline::ImpreciseInAView { block, view });
+        }
     }
     if let Some(&block) = overhanging_blocks(blocks, SAME_PLACE_TOL_MM, 1.0).first() {
         return Some(Decline::UpperLayerLarger { block });

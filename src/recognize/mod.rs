@@ -80,6 +80,15 @@ pub(crate) const SAME_PLACE_TOL_MM: f64 = 0.5;
 /// docs/recognizer-pictures.md "One view set aside"); [`DECLINE_KINDS`] names.
 const SHADING_DECLINES: [&str; 2] = ["not one direction", "unclassified lines"];
 
+/// The declines after which the lines no block draws are set aside (`set_aside`,
+/// docs/recognizer-pictures.md "Lines set aside"): the shading declines, and a view not
+/// explained (a shadow's or a highlight's line the answer lacks); [`DECLINE_KINDS`] names.
+const SET_ASIDE_DECLINES: [&str; 3] = [
+    "not one direction",
+    "unclassified lines",
+    "view not explained",
+];
+
 /// Recognizes the blocks seen in `views` (any subset of the four corner views): thesis
 /// Chapters IV-V with the check of step 6. Declining is an `Ok(Recognition)` with status
 /// `Unsupported`; an `Err` means the input itself is malformed.
@@ -126,12 +135,21 @@ pub fn recognize_with_progress(
     let (views, pictures) = prepared(views, pictures, opts);
     let all = recognize_prepared(&views, &pictures, opts, progress);
     let reason = all.reason.as_deref().unwrap_or_default();
-    if all.status == ReconStatus::Ok || !SHADING_DECLINES.contains(&decline_kind(reason)) {
+    let kind = decline_kind(reason);
+    if all.status == ReconStatus::Ok || !SET_ASIDE_DECLINES.contains(&kind) {
         return Ok(all);
     }
     let recognize =
         |v: &[ObservedView], p: &[ViewPicture]| recognize_prepared(v, p, opts, progress);
-    Ok(set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize).unwrap_or(all))
+    let one = if SHADING_DECLINES.contains(&kind) {
+        set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize)
+    } else {
+        None
+    };
+    let hypothesis = &all.evidence.hypothesis;
+    let lines =
+        || set_aside::with_shading_lines_set_aside(&views, &pictures, opts, &recognize, hypothesis);
+    Ok(one.or_else(lines).unwrap_or(all))
 }
 
 /// The views with their drawings normalized and their weak off-axis lines dropped, and their
@@ -227,13 +245,23 @@ pub(crate) fn inked_picture(
     camera: &Camera,
     drawing: &crate::drawing::LineDrawing,
 ) -> image::GrayImage {
+    inked_picture_in(camera, drawing, [40, 150])
+}
+
+/// [`inked_picture`] with the gray levels `[ink, floor]`: a faint drawing when they are close.
+#[cfg(test)]
+pub(crate) fn inked_picture_in(
+    camera: &Camera,
+    drawing: &crate::drawing::LineDrawing,
+    [ink, floor]: [u8; 2],
+) -> image::GrayImage {
     let [w, h] = camera.size_px;
     image::GrayImage::from_fn(w, h, |x, r| {
         let p = crate::geom::DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
         let near = drawing.lines.iter().any(|&[i, j]| {
             crate::geom::distance_to_segment_px(p, drawing.points[i], drawing.points[j]) <= 0.8
         });
-        image::Luma([if near { 40 } else { 150 }])
+        image::Luma([if near { ink } else { floor }])
     })
 }
 

@@ -30,7 +30,7 @@ use crate::drawing::LineDrawing;
 use crate::geom::{convex_hull, distance_to_segment_px, inside_convex, DVec2, DVec3};
 /// The px per mm of a drawn line, from its world ends (`None` without them or when
 /// degenerate).
-fn px_per_mm(drawn: &LineDrawing, line: usize) -> Option<f64> {
+pub(super) fn px_per_mm(drawn: &LineDrawing, line: usize) -> Option<f64> {
     let e = drawn.edges.get(line)?;
     let [i, j] = drawn.lines[line];
     let mm = DVec3::from(e.from_mm).distance(DVec3::from(e.to_mm));
@@ -312,6 +312,13 @@ pub fn without_weak_lines(
             edge_profile(picture, drawing.points[i], drawing.points[j]).is_weak()
         })
         .collect();
+    without_lines(drawing, &weak)
+}
+
+/// `drawing` without its lines `dropped` (indices into `drawing.lines`); points no line
+/// reaches after the drop go with them, points that had no line stay.
+pub fn without_lines(drawing: &LineDrawing, dropped: &[usize]) -> LineDrawing {
+    let weak = dropped;
     if weak.is_empty() {
         return drawing.clone();
     }

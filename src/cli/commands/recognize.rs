@@ -8,10 +8,10 @@
 use crate::cli::files::{read_camera, read_drawing, read_picture};
 use crate::cli::progress::with_progress;
 use anyhow::Context;
-use blockworld::camera::CornerView;
+use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
 use blockworld::physics::SettleParams;
-use blockworld::pipeline::check_answer_stands;
+use blockworld::pipeline::{check_answer_stands, read_again_fainter};
 use blockworld::recognize::{
     recognize_with_progress, ObservedView, Recognition, RecognizeOptions, SearchProgress,
 };
@@ -168,7 +168,12 @@ pub(super) fn recognize_folder(
     let progress: &dyn Fn(SearchProgress) = if shown { &shown_progress } else { &quiet };
     let recognition = recognize_with_progress(&observed, &pictures, opts, progress)
         .with_context(|| format!("recognizing {}", dir.display()))?;
-    let recognition = check_answer_stands(recognition, &SettleParams::default()).recognition;
+    let cameras: Vec<Camera> = observed.iter().map(|v| v.camera).collect();
+    let vision = VisionOptions::default();
+    let reading = read_again_fainter(recognition, &pictures, &cameras, &vision, opts);
+    let observed = reading.views.unwrap_or(observed);
+    let recognition =
+        check_answer_stands(reading.recognition, &SettleParams::default()).recognition;
     Ok((observed, recognition))
 }
 

@@ -1,0 +1,168 @@
+//! A second reading of fainter lines (docs/recognizer-pictures.md "A second reading of fainter
+//! lines"): Chapter VI's threshold of 80 on the smoothed Sobel magnitude answers to a step of
+//! 20 gray levels, and a camera picture in dim or flat light shows block edges fainter than
+//! that. When the first reading's answer declines for what a missed line causes (no block, a
+//! view not explained, lines in no block direction, an imprecise place), the pictures are read
+//! again at [`FAINTER_THRESHOLDS`], one after the other, and the first `ok` answer is taken,
+//! under the stricter placement bar `RecognizeOptions::every_view_places`: a fainter reading
+//! draws more lines of shading and noise, and its answers are held to every view's corners.
+//! Lowering the threshold of every reading instead loses more answers than it gains (the
+//! faint lines of shading then decline scenes the first reading answers).
+
+use crate::camera::Camera;
+use crate::recognize::{
+    decline_kind, recognize_in_pictures, ObservedView, Recognition, RecognizeOptions,
+};
+use crate::scene::ReconStatus;
+use crate::vision::{detect_line_drawing, VisionOptions};
+use image::GrayImage;
+
+/// The edge thresholds of the readings after the first, in order (smoothed Sobel magnitude:
+/// steps of about 14 and 10 gray levels).
+pub const FAINTER_THRESHOLDS: [u16; 2] = [56, 40];
+
+/// The declines after which the pictures are read again ([`DECLINE_KINDS`] names): what a line
+/// too faint for the first reading causes. Never after what Chapter VII says the method cannot
+/// do, an ambiguity, a spent budget or an answer that would not stand.
+///
+/// [`DECLINE_KINDS`]: crate::recognize::DECLINE_KINDS
+pub const READ_AGAIN_AFTER: [&str; 5] = [
+    "no blocks",
+    "view not explained",
+    "not one direction",
+    "unclassified lines",
+    "imprecise place",
+];
+
+/// The answer of a reading, with the views it read when it was not the first.
+#[derive(Debug, Clone)]
+pub struct Reading {
+    /// The answer: the first reading's, or the first `ok` answer of a fainter one.
+    pub recognition: Recognition,
+    /// The edge threshold of the reading that answered (the first reading's when none did).
+    pub threshold: u16,
+    /// The views of the fainter reading that answered; `None` when the first reading's answer
+    /// stands.
+    pub views: Option<Vec<ObservedView>>,
+}
+
+/// `first`, the answer of the views read from `pictures` (one per camera of `cameras`, in the
+/// same order) with `vision`, or, when it declines for a reason in [`READ_AGAIN_AFTER`], the
+/// first `ok` answer of the pictures read again at each of [`FAINTER_THRESHOLDS`] below
+/// `vision`'s threshold (module doc). A fainter reading the front end refuses (too many edge
+/// pixels) ends the readings.
+pub fn read_again_fainter(
+    first: Recognition,
+    pictures: &[&GrayImage],
+    cameras: &[Camera],
+    vision: &VisionOptions,
+    opts: &RecognizeOptions,
+) -> Reading {
+    let threshold = vision.edges.threshold;
+    let reason = first.reason.as_deref().unwrap_or_default();
+    let again = first.status != ReconStatus::Ok
+        && READ_AGAIN_AFTER.contains(&decline_kind(reason))
+        && pictures.len() == cameras.len()
+        && !pictures.is_empty();
+    if again {
+        let strict = RecognizeOptions {
+            every_view_places: true,
+            ..*opts
+        };
+        for &t in FAINTER_THRESHOLDS.iter().filter(|&&t| t < threshold) {
+            let Some(views) = read_at(pictures, cameras, vision, t) else {
+                break;
+            };
+            let Ok(answer) = recognize_in_pictures(&views, pictures, &strict) else {
+                break;
+            };
+            if answer.status == ReconStatus::Ok {
+                return Reading {
+                    recognition: answer,
+                    threshold: t,
+                    views: Some(views),
+                };
+            }
+        }
+    }
+    Reading {
+        recognition: first,
+        threshold,
+        views: None,
+    }
+}
+
+/// The views of `pictures` read by the front end at edge threshold `t` (hysteresis, if any,
+/// kept below it); `None` when the front end refuses a picture.
+fn read_at(
+    pictures: &[&GrayImage],
+    cameras: &[Camera],
+    vision: &VisionOptions,
+    t: u16,
+) -> Option<Vec<ObservedView>> {
+    let mut o = *vision;
+    o.edges.threshold = t;
+    o.edges.weak_threshold = o.edges.weak_threshold.min(t);
+    pictures
+        .iter()
+        .zip(cameras)
+        .map(|(p, c)| {
+            detect_line_drawing(p, c, &o).ok().map(|d| ObservedView {
+                drawing: d.drawing,
+                camera: *c,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::DVec3;
+    use crate::recognize::{inked_picture_in, views_of, CornerView};
+    use crate::scene::{same_blocks, Block};
+
+    /// The answer of the four views of a `b15` cube drawn in ink `ink` on a floor of 150,
+    /// read first at Chapter VI's threshold, then again fainter.
+    fn read(ink: u8) -> (Vec<Block>, Reading) {
+        let truth = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
+        let exact = views_of(&truth, &CornerView::ALL);
+        let pictures: Vec<GrayImage> = exact
+            .iter()
+            .map(|v| inked_picture_in(&v.camera, &v.drawing, [ink, 150]))
+            .collect();
+        let refs: Vec<&GrayImage> = pictures.iter().collect();
+        let cameras: Vec<Camera> = exact.iter().map(|v| v.camera).collect();
+        let vision = VisionOptions::default();
+        let opts = RecognizeOptions::default();
+        let views = read_at(&refs, &cameras, &vision, vision.edges.threshold).unwrap();
+        let first = recognize_in_pictures(&views, &refs, &opts).unwrap();
+        (
+            truth,
+            read_again_fainter(first, &refs, &cameras, &vision, &opts),
+        )
+    }
+
+    /// Ink 40 on 150 is read at the first threshold; ink 128 and ink 134 (steps of 22 and 16
+    /// levels on a line 1.6 px wide, under Chapter VI's threshold once smoothed) only by the
+    /// second and third readings, which answer the cube; ink 146 by none, and the answer stays
+    /// a decline.
+    #[test]
+    fn a_drawing_too_faint_for_the_first_threshold_is_read_again_fainter() {
+        let (truth, strong) = read(40);
+        assert_eq!(strong.recognition.status, ReconStatus::Ok);
+        assert_eq!(strong.threshold, 80);
+        assert!(strong.views.is_none());
+        for (ink, threshold) in [(128, FAINTER_THRESHOLDS[0]), (134, FAINTER_THRESHOLDS[1])] {
+            let (_, faint) = read(ink);
+            let r = &faint.recognition;
+            assert_eq!(r.status, ReconStatus::Ok, "ink {ink}: {:?}", r.reason);
+            assert_eq!(faint.threshold, threshold, "ink {ink}");
+            assert!(faint.views.is_some());
+            assert!(same_blocks(&r.blocks, &truth, 0.1), "{:?}", r.blocks);
+        }
+        let (_, unseen) = read(146);
+        assert_eq!(unseen.recognition.status, ReconStatus::Unsupported);
+        assert!(unseen.views.is_none());
+    }
+}
