@@ -75,7 +75,7 @@ pub(super) fn check_directions(
 
 /// The tolerance of Chapter VII's one-direction check: `axis_tol_deg`, or, on a short line,
 /// either end `tol_px` across the axis line ([`AxisTolerance`]).
-fn axis_tolerance(opts: &RecognizeOptions) -> AxisTolerance {
+pub(super) fn axis_tolerance(opts: &RecognizeOptions) -> AxisTolerance {
     AxisTolerance {
         tol_deg: opts.axis_tol_deg,
         end_tol_px: opts.tol_px,
@@ -349,6 +349,19 @@ pub(super) fn read_pictures<'a>(
     }
 }
 
+/// The straight lines of `view`'s drawing in no block direction: along no block axis, or
+/// unclassified (curves kept out).
+pub(super) fn straight_lines_in_no_block_direction(
+    view: &ObservedView,
+    opts: &RecognizeOptions,
+) -> Vec<usize> {
+    let d = &view.drawing;
+    let mut off = lines_off_the_axes(d, &view.camera, axis_tolerance(opts));
+    off.extend(d.unclassified_lines.iter().copied());
+    off.retain(|k| !d.curved_lines.contains(k));
+    off
+}
+
 /// Drops from each view's drawing the lines along no block axis (and the unclassified ones,
 /// curves kept) that its picture shows weak ([`without_weak_lines`]).
 pub(super) fn drop_weak_off_axis_lines(
@@ -357,9 +370,7 @@ pub(super) fn drop_weak_off_axis_lines(
     opts: &RecognizeOptions,
 ) {
     for (v, pic) in views.iter_mut().zip(pictures) {
-        let mut off = lines_off_the_axes(&v.drawing, &v.camera, axis_tolerance(opts));
-        off.extend(v.drawing.unclassified_lines.iter().copied());
-        off.retain(|k| !v.drawing.curved_lines.contains(k));
+        let off = straight_lines_in_no_block_direction(v, opts);
         if !off.is_empty() {
             v.drawing = without_weak_lines(&v.drawing, &off, pic);
         }

@@ -17,8 +17,9 @@
 //! or fades out). Anything else keeps the four views' decline.
 
 use super::answer::{ObservedView, Recognition, RecognizeOptions};
-use super::constraints::{lines_off_the_axes, AxisTolerance};
+use super::constraints::lines_off_the_axes;
 use super::edge_profile::ViewPicture;
+use super::flow::{axis_tolerance, straight_lines_in_no_block_direction};
 use super::picture::{pictures_mismatch, px_per_mm, without_lines, ROUNDING_ALLOWANCE_MM};
 use super::placement::{misplaced_in_a_view, overlap_after_shift, EXACT_OVERLAP};
 use super::verify::{draw_hypothesis, ViewCheck, ViewMismatch};
@@ -141,10 +142,6 @@ fn without_shading_lines(
     opts: &RecognizeOptions,
     hypothesis: &[Block],
 ) -> Option<Vec<ObservedView>> {
-    let tol = AxisTolerance {
-        tol_deg: opts.axis_tol_deg,
-        end_tol_px: opts.tol_px,
-    };
     let drawn: Vec<LineDrawing> = views
         .iter()
         .map(|v| draw_hypothesis(hypothesis, &v.camera))
@@ -157,9 +154,7 @@ fn without_shading_lines(
         .iter()
         .enumerate()
         .map(|(k, v)| {
-            let mut off = lines_off_the_axes(&v.drawing, &v.camera, tol);
-            off.extend(v.drawing.unclassified_lines.iter().copied());
-            off.retain(|l| !v.drawing.curved_lines.contains(l));
+            let mut off = straight_lines_in_no_block_direction(v, opts);
             if let Some(m) = &mismatches {
                 let outline = Outline::of(hypothesis, &v.camera);
                 let shading: Vec<usize> = m[k]
@@ -199,10 +194,7 @@ fn views_read(
         .collect();
     let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
     let mismatches = pictures_mismatch(&drawn, &observed, pictures, opts.tol_px);
-    let tol = AxisTolerance {
-        tol_deg: opts.axis_tol_deg,
-        end_tol_px: opts.tol_px,
-    };
+    let tol = axis_tolerance(opts);
     let contradicts = |k: usize, m: &ViewMismatch| {
         let v = &views[k];
         let off = lines_off_the_axes(&v.drawing, &v.camera, tol);
