@@ -34,7 +34,7 @@ pub const READ_AGAIN_AFTER: [&str; 5] = [
     "imprecise place",
 ];
 
-/// The answer of a reading, with the views it read when it was not the first.
+/// The answer of a reading, with the views it read when it is not the first.
 #[derive(Debug, Clone)]
 pub struct Reading {
     /// The answer: the first reading's, or the first `ok` answer of a fainter one.
