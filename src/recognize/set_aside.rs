@@ -227,12 +227,7 @@ fn could_be_block_edge(
     let [a, b] = drawing.lines[l];
     let (pa, pb) = (drawing.points[a], drawing.points[b]);
     let samples = (pa.distance(pb) / SAMPLE_STEP_PX).ceil().max(1.0) as usize;
-    let near_drawn = |q: DVec2| {
-        drawn
-            .lines
-            .iter()
-            .any(|&[c, d]| distance_to_segment_px(q, drawn.points[c], drawn.points[d]) <= tol_px)
-    };
+    let near_drawn = |q: DVec2| on_a_drawn_line(drawn, q, tol_px);
     let inside = (0..=samples)
         .map(|i| pa.lerp(pb, i as f64 / samples as f64))
         .any(|q| !near_drawn(q) && outline.contains(q, -tol_px));
@@ -275,13 +270,17 @@ fn every_piece_hangs_off(
 /// cast shadow's edge starts where the block casting it stands; a line off every block axis
 /// away from the answer could be an edge of a block turned off the axes.
 fn hangs_off(drawing: &LineDrawing, l: usize, drawn: &LineDrawing, tol_px: f64) -> bool {
-    drawing.lines[l].iter().any(|&e| {
-        let q = drawing.points[e];
-        drawn
-            .lines
-            .iter()
-            .any(|&[c, d]| distance_to_segment_px(q, drawn.points[c], drawn.points[d]) <= tol_px)
-    })
+    drawing.lines[l]
+        .iter()
+        .any(|&e| on_a_drawn_line(drawn, drawing.points[e], tol_px))
+}
+
+/// `true` when picture point `q` lies within `tol_px` of a line of `drawn`.
+fn on_a_drawn_line(drawn: &LineDrawing, q: DVec2, tol_px: f64) -> bool {
+    drawn
+        .lines
+        .iter()
+        .any(|&[c, d]| distance_to_segment_px(q, drawn.points[c], drawn.points[d]) <= tol_px)
 }
 
 /// `true` when observed line `l` runs beside one line of `drawn`, parallel to it, every
