@@ -123,6 +123,16 @@ impl EdgeProfile {
     }
 }
 
+/// The points a segment from `a` along unit `u`, `len` px long, is read at: 1 px apart,
+/// [`END_MARGIN_PX`] clear of its ends (other edges meet there).
+fn sample_centres(a: DVec2, u: DVec2, len: f64) -> Vec<DVec2> {
+    (0..)
+        .map(|k| END_MARGIN_PX + f64::from(k))
+        .take_while(|&t| t <= len - END_MARGIN_PX)
+        .map(|t| a + u * t)
+        .collect()
+}
+
 /// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
 pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let len = a.distance(b);
@@ -133,11 +143,7 @@ pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let n = u.perp();
     let min_step = picture.min_step_levels();
     let at = |c: DVec2, d: f64| gray_at(picture.gray, c + n * d);
-    let centres: Vec<DVec2> = (0..)
-        .map(|k| END_MARGIN_PX + f64::from(k))
-        .take_while(|&t| t <= len - END_MARGIN_PX)
-        .map(|t| a + u * t)
-        .collect();
+    let centres = sample_centres(a, u, len);
     let mut best = EdgeProfile::default();
     let steps = (2.0 * SEARCH_PX) as i32;
     for k in 0..=2 * steps {
@@ -179,4 +185,80 @@ pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
         }
     }
     best
+}
+
+/// How far either side of a segment [`flat_across`] reads, px: a band from 1 px to this,
+/// wide enough that a blurred step (the varied look blurs by up to 1.5 px) cannot hide in it.
+pub const FLAT_BAND_PX: f64 = 5.0;
+
+/// `true` when the picture shows nothing across segment `a`-`b`: at every offset within
+/// [`SEARCH_PX`] of it, the median difference between the bands either side (1 px to
+/// [`FLAT_BAND_PX`]) is under the picture's smallest step ([`ViewPicture::min_step_levels`]),
+/// and no sign of difference reaches it on [`MIN_SHARE`] of the samples. A face and the floor
+/// beside it lit to the same gray show this: the edge between them is in the scene but not
+/// in the picture (docs/recognizer-pictures.md "Outlines against a floor of the same gray").
+/// A segment too short to read is not flat.
+pub fn flat_across(picture: &ViewPicture, a: DVec2, b: DVec2) -> bool {
+    let len = a.distance(b);
+    if len.is_nan() || len < FRAGMENT_PX {
+        return false;
+    }
+    let u = (b - a) / len;
+    let n = u.perp();
+    let min_step = picture.min_step_levels();
+    let band = |c: DVec2, o: f64, s: f64| {
+        let v: Vec<f64> = (1..=FLAT_BAND_PX as i32)
+            .filter_map(|d| gray_at(picture.gray, c + n * (o + s * f64::from(d))))
+            .collect();
+        (v.len() == FLAT_BAND_PX as usize).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    let centres = sample_centres(a, u, len);
+    let steps = (2.0 * SEARCH_PX) as i32;
+    (0..=2 * steps).all(|k| {
+        let o = f64::from(k) * 0.5 - SEARCH_PX;
+        let mut diff: Vec<f64> = centres
+            .iter()
+            .filter_map(|&c| Some(band(c, o, 1.0)? - band(c, o, -1.0)?))
+            .collect();
+        if diff.len() * 2 < centres.len() || diff.is_empty() {
+            return false;
+        }
+        let share = |sign: f64| {
+            diff.iter().filter(|&&d| d * sign >= min_step).count() as f64 / diff.len() as f64
+        };
+        let (up, down) = (share(1.0), share(-1.0));
+        let m = median(&mut diff).unwrap_or(f64::INFINITY);
+        m.abs() < min_step && up < MIN_SHARE && down < MIN_SHARE
+    })
+}
+
+/// `true` when the picture shows no step along the walk from `from` in unit direction `dir`
+/// for `len_px`: at every px the mean of a strip 5 px wide (across the walk) and 3 px long
+/// ahead differs from the one behind by less than the picture's smallest step
+/// ([`ViewPicture::min_step_levels`]). A face seen whole is one gray from edge to edge; a
+/// face another block covers in part is not. A walk too short to read (under 6 px) or leaving
+/// the picture is not uniform.
+pub fn uniform_along(picture: &ViewPicture, from: DVec2, dir: DVec2, len_px: f64) -> bool {
+    if len_px.is_nan() || len_px < 6.0 {
+        return false;
+    }
+    let across = dir.perp();
+    let strip = |t: f64, ahead: f64| {
+        let mut sum = 0.0;
+        for s in 1..=3 {
+            for w in -2..=2 {
+                let q = from + dir * (t + ahead * f64::from(s)) + across * f64::from(w);
+                sum += gray_at(picture.gray, q)?;
+            }
+        }
+        Some(sum / 15.0)
+    };
+    let min_step = picture.min_step_levels();
+    (3..=(len_px - 3.0) as i32).all(|t| {
+        let t = f64::from(t);
+        match (strip(t, 1.0), strip(t, -1.0)) {
+            (Some(ahead), Some(behind)) => (ahead - behind).abs() < min_step,
+            _ => false,
+        }
+    })
 }

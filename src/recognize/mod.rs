@@ -30,6 +30,7 @@ mod compare;
 mod constraints;
 mod direct;
 mod edge_profile;
+mod floor_gray;
 mod parallelogram;
 mod picture;
 mod placement;
@@ -255,13 +256,26 @@ pub(crate) fn inked_picture_in(
     drawing: &crate::drawing::LineDrawing,
     [ink, floor]: [u8; 2],
 ) -> image::GrayImage {
-    let [w, h] = camera.size_px;
-    image::GrayImage::from_fn(w, h, |x, r| {
-        let p = crate::geom::DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
+    painted_picture(camera, floor, |p| {
         let near = drawing.lines.iter().any(|&[i, j]| {
             crate::geom::distance_to_segment_px(p, drawing.points[i], drawing.points[j]) <= 0.8
         });
-        image::Luma([if near { ink } else { floor }])
+        near.then_some(ink)
+    })
+}
+
+/// A picture of `camera`'s size at gray `level`, with `paint` (picture px, y up) applied at
+/// every pixel centre where it gives a gray: the painted pictures of the unit tests.
+#[cfg(test)]
+pub(crate) fn painted_picture(
+    camera: &Camera,
+    level: u8,
+    paint: impl Fn(crate::geom::DVec2) -> Option<u8>,
+) -> image::GrayImage {
+    let [w, h] = camera.size_px;
+    image::GrayImage::from_fn(w, h, |x, r| {
+        let p = crate::geom::DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
+        image::Luma([paint(p).unwrap_or(level)])
     })
 }
 

@@ -25,6 +25,7 @@
 //! hypothesis.
 
 use super::edge_profile::{edge_profile, ViewPicture, CRACK_ALLOWANCE_MM, MIN_SHARE};
+use super::floor_gray;
 use super::verify::{mismatched_features, unexplained_pieces, ViewCheck, ViewMismatch};
 use crate::drawing::LineDrawing;
 use crate::geom::{convex_hull, distance_to_segment_px, inside_convex, DVec2, DVec3};
@@ -124,7 +125,10 @@ pub fn picture_mismatch(
     } else {
         m.clone()
     };
-    let confirmed = confirmed_lines(drawn, picture, &m, &wide, &offsets.drawn);
+    let mut confirmed = confirmed_lines(drawn, picture, &m, &wide, &offsets.drawn);
+    confirmed.extend(floor_gray::hidden_against_floor(
+        drawn, picture, &m, &confirmed,
+    ));
     let tolerated = tolerated_lines(
         drawn,
         observed,
@@ -429,16 +433,9 @@ mod tests {
     };
     use crate::scene::Block;
     use crate::scene::ReconStatus;
-    use image::{GrayImage, Luma};
+    use image::GrayImage;
 
-    /// A flat picture of `camera`'s size at `level`, with `paint` applied per pixel centre.
-    fn picture(camera: &Camera, level: u8, paint: impl Fn(DVec2) -> Option<u8>) -> GrayImage {
-        let [w, h] = camera.size_px;
-        GrayImage::from_fn(w, h, |x, r| {
-            let p = DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
-            Luma([paint(p).unwrap_or(level)])
-        })
-    }
+    use crate::recognize::painted_picture as picture;
 
     /// Ink along every line of `d` (line art's drawn seams: a narrow dark line).
     fn inked(camera: &Camera, d: &LineDrawing) -> GrayImage {

@@ -240,8 +240,10 @@ fn could_be_block_edge(
 }
 
 /// `true` when every connected piece of the observed lines `lines` (lines sharing a point are
-/// one piece) has a line that [`hangs_off`] the answer's drawing `drawn`: a cast shadow is
-/// attached to the block that casts it, where a block the answer lacks, standing apart, is not.
+/// one piece) has a line that [`hangs_off`] the answer's drawing `drawn`, or that ends where an
+/// observed line the answer explains ends (a block's upright outline runs on into the shadow
+/// at its foot when the shaded face and the shadow are one gray): a cast shadow is attached to
+/// the block that casts it, where a block the answer lacks, standing apart, is not.
 fn every_piece_hangs_off(
     drawing: &LineDrawing,
     lines: &[usize],
@@ -253,9 +255,14 @@ fn every_piece_hangs_off(
         let [a, b] = drawing.lines[l];
         pieces.union(a, b);
     }
+    let explained_end = |e: &usize| {
+        (0..drawing.lines.len()).any(|k| !lines.contains(&k) && drawing.lines[k].contains(e))
+    };
     let mut attached: Vec<usize> = lines
         .iter()
-        .filter(|&&l| hangs_off(drawing, l, drawn, tol_px))
+        .filter(|&&l| {
+            hangs_off(drawing, l, drawn, tol_px) || drawing.lines[l].iter().any(explained_end)
+        })
         .map(|&l| pieces.find(drawing.lines[l][0]))
         .collect();
     attached.sort_unstable();
@@ -544,6 +551,35 @@ mod tests {
             "{:?}",
             further.blocks
         );
+    }
+
+    /// A shadow piece starting where an observed outline the answer explains runs on past
+    /// the answer's corner (the shaded face and its shadow one gray) hangs off the answer; the
+    /// same piece starting at that place but not on that line does not.
+    #[test]
+    fn a_piece_from_the_end_of_an_explained_line_hangs_off_and_one_beside_it_not() {
+        let drawing = |points: Vec<DVec2>, lines: Vec<[usize; 2]>| {
+            let mut d = LineDrawing {
+                points,
+                lines,
+                ..LineDrawing::default()
+            };
+            d.finalize();
+            d
+        };
+        let drawn = drawing(
+            vec![DVec2::new(50.0, 20.0), DVec2::new(50.0, 120.0)],
+            vec![[0, 1]],
+        );
+        let (top, foot, far) = (
+            DVec2::new(50.0, 120.0),
+            DVec2::new(50.0, 10.0),
+            DVec2::new(10.0, 30.0),
+        );
+        let on = drawing(vec![top, foot, far], vec![[0, 1], [1, 2]]);
+        assert!(every_piece_hangs_off(&on, &[1], &drawn, 2.0));
+        let beside = drawing(vec![top, foot, foot, far], vec![[0, 1], [2, 3]]);
+        assert!(!every_piece_hangs_off(&beside, &[1], &drawn, 2.0));
     }
 
     /// The four views' answer alone, without any view set aside.
