@@ -34,13 +34,7 @@ pub(super) fn hidden_against_floor(
             .get(k)
             .is_some_and(|e| e.from_mm[1].abs() < 1e-6 && e.to_mm[1].abs() < 1e-6)
     };
-    let on_hull = |k: usize| {
-        let [i, j] = drawn.lines[k];
-        let (a, b) = (drawn.points[i], drawn.points[j]);
-        let n = (b - a).normalize_or_zero().perp() * BESIDE_PX;
-        let mid = a.lerp(b, 0.5);
-        inside_convex(&hull, mid + n, 0.0) != inside_convex(&hull, mid - n, 0.0)
-    };
+    let on_hull = |k: usize| inward_of_hull(drawn, &hull, k).is_some();
     let seen_end = |k: usize| drawn.lines[k].iter().any(|p| !m.extra_points.contains(p));
     let hidden: Vec<usize> = m
         .extra_lines
@@ -61,6 +55,24 @@ pub(super) fn hidden_against_floor(
     hidden
 }
 
+/// The unit normal of redrawn line `k` towards the inside of the convex hull `hull` when
+/// the line lies on the hull (the point [`BESIDE_PX`] beside its middle is inside on one side
+/// and outside on the other); `None` otherwise.
+fn inward_of_hull(drawn: &LineDrawing, hull: &[DVec2], k: usize) -> Option<DVec2> {
+    let [i, j] = drawn.lines[k];
+    let (a, b) = (drawn.points[i], drawn.points[j]);
+    let n = (b - a).normalize_or_zero().perp();
+    let mid = a.lerp(b, 0.5);
+    match (
+        inside_convex(hull, mid + n * BESIDE_PX, 0.0),
+        inside_convex(hull, mid - n * BESIDE_PX, 0.0),
+    ) {
+        (true, false) => Some(n),
+        (false, true) => Some(-n),
+        _ => None,
+    }
+}
+
 /// Walks across a face start and stop this far from a redrawn line, px (clear of the
 /// edges' blur and the strips' half width).
 const FACE_EDGE_PX: f64 = 4.0;
@@ -76,15 +88,9 @@ fn face_seen_whole(drawn: &LineDrawing, picture: &ViewPicture, k: usize, hull: &
     let [i, j] = drawn.lines[k];
     let (a, b) = (drawn.points[i], drawn.points[j]);
     let n = (b - a).normalize_or_zero().perp();
-    let mid = a.lerp(b, 0.5);
-    let inward = match (
-        inside_convex(hull, mid + n * BESIDE_PX, 0.0),
-        inside_convex(hull, mid - n * BESIDE_PX, 0.0),
-    ) {
-        (true, false) => n,
-        (false, true) => -n,
-        _ if n.y.abs() > 1e-9 => n * n.y.signum(),
-        _ => return false,
+    let up = (n.y.abs() > 1e-9).then(|| n * n.y.signum());
+    let Some(inward) = inward_of_hull(drawn, hull, k).or(up) else {
+        return false;
     };
     let near_other = |q: DVec2| {
         (0..drawn.lines.len()).filter(|&l| l != k).any(|l| {
