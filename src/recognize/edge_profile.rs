@@ -133,6 +133,13 @@ fn sample_centres(a: DVec2, u: DVec2, len: f64) -> Vec<DVec2> {
         .collect()
 }
 
+/// The offsets across a segment where the line is looked for, px: every 0.5 px within
+/// [`SEARCH_PX`] of where it is drawn.
+fn search_offsets() -> impl Iterator<Item = f64> {
+    let steps = (4.0 * SEARCH_PX) as i32;
+    (0..=steps).map(|k| f64::from(k) * 0.5 - SEARCH_PX)
+}
+
 /// Reads the picture across segment `a`-`b` (see [`EdgeProfile`]).
 pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let len = a.distance(b);
@@ -145,9 +152,7 @@ pub fn edge_profile(picture: &ViewPicture, a: DVec2, b: DVec2) -> EdgeProfile {
     let at = |c: DVec2, d: f64| gray_at(picture.gray, c + n * d);
     let centres = sample_centres(a, u, len);
     let mut best = EdgeProfile::default();
-    let steps = (2.0 * SEARCH_PX) as i32;
-    for k in 0..=2 * steps {
-        let o = f64::from(k) * 0.5 - SEARCH_PX;
+    for o in search_offsets() {
         let mut step = Vec::with_capacity(centres.len());
         let mut crack = Vec::with_capacity(centres.len());
         for &c in &centres {
@@ -213,9 +218,7 @@ pub fn flat_across(picture: &ViewPicture, a: DVec2, b: DVec2) -> bool {
         (v.len() == FLAT_BAND_PX as usize).then(|| v.iter().sum::<f64>() / v.len() as f64)
     };
     let centres = sample_centres(a, u, len);
-    let steps = (2.0 * SEARCH_PX) as i32;
-    (0..=2 * steps).all(|k| {
-        let o = f64::from(k) * 0.5 - SEARCH_PX;
+    search_offsets().all(|o| {
         let mut diff: Vec<f64> = centres
             .iter()
             .filter_map(|&c| Some(band(c, o, 1.0)? - band(c, o, -1.0)?))

@@ -99,7 +99,7 @@ fn on_drawn_line(drawn: &LineDrawing, p: DVec2, tol_px: f64) -> bool {
 }
 
 /// Lines of `d` at point `p`.
-fn lines_at(d: &LineDrawing, p: usize) -> impl Iterator<Item = usize> + '_ {
+pub(super) fn lines_at(d: &LineDrawing, p: usize) -> impl Iterator<Item = usize> + '_ {
     (0..d.lines.len()).filter(move |&k| d.lines[k].contains(&p))
 }
 

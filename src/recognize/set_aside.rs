@@ -20,7 +20,9 @@ use super::answer::{ObservedView, Recognition, RecognizeOptions};
 use super::constraints::lines_off_the_axes;
 use super::edge_profile::ViewPicture;
 use super::flow::{axis_tolerance, straight_lines_in_no_block_direction};
-use super::picture::{pictures_mismatch, px_per_mm, without_lines, ROUNDING_ALLOWANCE_MM};
+use super::picture::{
+    lines_at, pictures_mismatch, px_per_mm, without_lines, ROUNDING_ALLOWANCE_MM,
+};
 use super::placement::{misplaced_in_a_view, overlap_after_shift, EXACT_OVERLAP};
 use super::verify::{draw_hypothesis, ViewCheck, ViewMismatch};
 use super::{Camera, SAME_PLACE_TOL_MM};
@@ -255,9 +257,7 @@ fn every_piece_hangs_off(
         let [a, b] = drawing.lines[l];
         pieces.union(a, b);
     }
-    let explained_end = |e: &usize| {
-        (0..drawing.lines.len()).any(|k| !lines.contains(&k) && drawing.lines[k].contains(e))
-    };
+    let explained_end = |&e: &usize| lines_at(drawing, e).any(|k| !lines.contains(&k));
     let mut attached: Vec<usize> = lines
         .iter()
         .filter(|&&l| {
