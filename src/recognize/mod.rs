@@ -76,14 +76,11 @@ use flow::{find_hypothesis, normalize_views, placed_answer, read_pictures};
 /// other (far below any catalog size, far above the measurement error).
 pub(crate) const SAME_PLACE_TOL_MM: f64 = 0.5;
 
-/// The declines of four views that a cast shadow's edge causes (lines in no block direction,
-/// before any search), after which one view may be set aside (`set_aside`,
-/// docs/recognizer-pictures.md "One view set aside"); [`DECLINE_KINDS`] names.
-const SHADING_DECLINES: [&str; 2] = ["not one direction", "unclassified lines"];
-
-/// The declines after which the lines no block draws are set aside (`set_aside`,
-/// docs/recognizer-pictures.md "Lines set aside"): the shading declines, and a view not
-/// explained (a shadow's or a highlight's line the answer lacks); [`DECLINE_KINDS`] names.
+/// The declines after which one view is set aside and then the lines no block draws
+/// (`set_aside`, docs/recognizer-pictures.md "One view set aside" and "Lines set aside"):
+/// lines in no block direction (what a cast shadow's edge causes, before any search), and a
+/// view not explained (a shadow's or a highlight's line the answer lacks, one view read off
+/// the others); [`DECLINE_KINDS`] names.
 const SET_ASIDE_DECLINES: [&str; 3] = [
     "not one direction",
     "unclassified lines",
@@ -142,11 +139,7 @@ pub fn recognize_with_progress(
     }
     let recognize =
         |v: &[ObservedView], p: &[ViewPicture]| recognize_prepared(v, p, opts, progress);
-    let one = if SHADING_DECLINES.contains(&kind) {
-        set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize)
-    } else {
-        None
-    };
+    let one = set_aside::with_one_view_set_aside(&views, &pictures, opts, &recognize);
     let hypothesis = &all.evidence.hypothesis;
     let lines =
         || set_aside::with_shading_lines_set_aside(&views, &pictures, opts, &recognize, hypothesis);
