@@ -509,6 +509,14 @@ mod tests {
         (d.points[low], d.points[other])
     }
 
+    /// A rounded edge's shading band on a `b15` cube's drawing: a line from its front vertical
+    /// edge along its lower right edge, `mm` above it inside the face, to 0.8 of the edge.
+    fn band_above_lowest_right_edge(d: &LineDrawing, mm: f64) -> (DVec2, DVec2) {
+        let (low, corner) = lowest_right_edge(d);
+        let up = DVec2::new(0.0, mm * low.distance(corner) / 15.0);
+        (low + up, low.lerp(corner, 0.8) + up)
+    }
+
     /// A shadow's edge along a block axis: the cube's lower right edge continued beyond its
     /// corner on the floor for half its length (the four views decline: view not explained).
     /// Set aside, the cube is answered. The same line starting 6 px beyond the corner, apart
@@ -535,14 +543,7 @@ mod tests {
     /// 1.5 mm above it, no rounding's band, it could be another block's edge: declined.
     #[test]
     fn a_line_beside_an_edge_by_a_rounding_is_set_aside_but_one_further_in_is_not() {
-        let inside = |mm: f64| {
-            move |d: &LineDrawing| {
-                let (low, corner) = lowest_right_edge(d);
-                let px_per_mm = low.distance(corner) / 15.0;
-                let up = DVec2::new(0.0, mm * px_per_mm);
-                (low + up, low.lerp(corner, 0.8) + up)
-            }
-        };
+        let inside = |mm: f64| move |d: &LineDrawing| band_above_lowest_right_edge(d, mm);
         let (truth, answer) = cube_with_line(inside(0.4));
         assert_eq!(answer.status, ReconStatus::Ok, "{:?}", answer.reason);
         assert!(same_blocks(&answer.blocks, &truth, 0.1));
@@ -596,9 +597,8 @@ mod tests {
         let answer = |shift_px: f64| {
             let truth = vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
             let mut views = views_of(&truth, &CornerView::ALL);
-            let (low, corner) = lowest_right_edge(&views[0].drawing);
-            let up = DVec2::new(0.0, 0.4 * low.distance(corner) / 15.0);
-            let mut off = with_line(&views[0], low + up, low.lerp(corner, 0.8) + up);
+            let (from, to) = band_above_lowest_right_edge(&views[0].drawing, 0.4);
+            let mut off = with_line(&views[0], from, to);
             off.drawing.points.iter_mut().for_each(|p| p.x += shift_px);
             off.drawing.finalize();
             views[0] = off;
