@@ -1,5 +1,5 @@
 //! Seam refinement of fitted lines (`super::lines`): a line on the renderer's dark seam is
-//! re-fitted on the seam's pixels.
+//! re-fitted on the seam's pixels, and cut in two where its seam steps across.
 
 use super::lines::{FittedLine, LineOptions};
 use crate::geom::{floor_i64, gray_at_px, DVec2};
@@ -7,7 +7,8 @@ use image::GrayImage;
 
 /// Refines lines that sit on a dark seam (the renderer draws ~1 px dark lines along block
 /// edges between faces): the edge map's band is lopsided when the faces on the two sides differ
-/// in brightness, so its centre can miss the seam by most of a pixel. A pixel within
+/// in brightness, so its centre can miss the seam by most of a pixel. A line whose seam steps
+/// across is returned as two ([`split_at_seam_step`]). A pixel within
 /// `SEAM_SEARCH_PX` of the line is a seam pixel when it is darker, by at least
 /// [`MIN_SEAM_CONTRAST`] gray levels, than both pixels `SEAM_SIDE_PX` away across the line (a
 /// local test, so faces that change along the line do not matter). When seam pixels cover at
@@ -21,13 +22,104 @@ pub fn refine_lines_on_seams(
 ) -> Vec<FittedLine> {
     let mut pts: Vec<DVec2> = Vec::new();
     let mut weights: Vec<f64> = Vec::new();
-    lines
+    let mut out = Vec::with_capacity(lines.len());
+    for l in lines {
+        seam_pixels(gray, l, &mut pts, &mut weights);
+        match split_at_seam_step(l, &pts, &weights) {
+            Some(parts) => out.extend(parts),
+            None => out.push(refine_one(l, &pts, &weights).unwrap_or(*l)),
+        }
+    }
+    out
+}
+
+/// Smallest step across the line between two seams that splits a line, px.
+const MIN_SEAM_STEP_PX: f64 = 1.5;
+/// A line is split only where two seams at constant offsets explain the seam pixels' offsets
+/// this much better than one straight seam: the F statistic of the step (the squared residual
+/// it removes over the residual per pixel left) is at least this.
+const MIN_STEP_F: f64 = 50.0;
+/// Each of the two seams of a split line is at least this long, px.
+const MIN_SEAM_PART_PX: f64 = 8.0;
+
+/// Two seams of one direction, one ending where the other begins a little aside (in a
+/// perspective view an upper block's upright above a lower block's, both inside one vote band),
+/// make one fitted line that turns between them. When the seam pixels of `l` (`pts`, with
+/// `weights`) lie on two parts along the line at offsets at least [`MIN_SEAM_STEP_PX`] apart,
+/// each at least [`MIN_SEAM_PART_PX`] long, and two constant offsets explain them much better
+/// than one straight line ([`MIN_STEP_F`]), `l` is cut at the step and each part is
+/// re-fitted on its own seam pixels. `None` when there is no such step or a part does not refit.
+fn split_at_seam_step(l: &FittedLine, pts: &[DVec2], weights: &[f64]) -> Option<[FittedLine; 2]> {
+    let mut order: Vec<(f64, f64, usize)> = pts
         .iter()
-        .map(|l| {
-            seam_pixels(gray, l, &mut pts, &mut weights);
-            refine_one(l, &pts, &weights).unwrap_or(*l)
+        .enumerate()
+        .map(|(k, p)| (l.along_px(*p), l.signed_distance_px(*p), k))
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+    let s = step_index(&order)?;
+    let cut_t = (order[s - 1].0 + order[s].0) / 2.0;
+    let cut = l.centroid_px + l.direction * cut_t;
+    let part = |range: std::ops::Range<usize>, from: DVec2, to: DVec2| {
+        let (p, w): (Vec<DVec2>, Vec<f64>) = order[range]
+            .iter()
+            .map(|o| (pts[o.2], weights[o.2]))
+            .unzip();
+        let piece = FittedLine {
+            centroid_px: (from + to) / 2.0,
+            from_px: from,
+            to_px: to,
+            support: p.len(),
+            ..*l
+        };
+        refine_one(&piece, &p, &w)
+    };
+    Some([
+        part(0..s, l.from_px, cut)?,
+        part(s..order.len(), cut, l.to_px)?,
+    ])
+}
+
+/// The index of the first of `order` (seam pixels as `(along, across, _)`, ordered along)
+/// after a step across; see [`split_at_seam_step`].
+fn step_index(order: &[(f64, f64, usize)]) -> Option<usize> {
+    let n = order.len();
+    if n < 4 || order[n - 1].0 - order[0].0 < 2.0 * MIN_SEAM_PART_PX {
+        return None;
+    }
+    let nf = n as f64;
+    let (mt, md) = order
+        .iter()
+        .fold((0.0, 0.0), |(a, b), o| (a + o.0 / nf, b + o.1 / nf));
+    let (stt, std_, sdd) = order.iter().fold((0.0, 0.0, 0.0), |(a, b, c), o| {
+        let (dt, dd) = (o.0 - mt, o.1 - md);
+        (a + dt * dt, b + dt * dd, c + dd * dd)
+    });
+    let line_sse = if stt > 0.0 {
+        sdd - std_ * std_ / stt
+    } else {
+        sdd
+    };
+    // Prefix sums of the offsets about their mean, for each part's mean and residual.
+    let mut prefix = vec![(0.0, 0.0)];
+    for o in order {
+        let (s1, s2) = prefix[prefix.len() - 1];
+        prefix.push((s1 + (o.1 - md), s2 + (o.1 - md).powi(2)));
+    }
+    let part = |a: usize, b: usize| {
+        let m = (b - a) as f64;
+        let (sum, sq) = (prefix[b].0 - prefix[a].0, prefix[b].1 - prefix[a].1);
+        (sum / m, sq - sum * sum / m)
+    };
+    let (t0, t1) = (order[0].0, order[n - 1].0);
+    let (sse, step, s) = (1..n)
+        .filter(|&s| order[s - 1].0 - t0 >= MIN_SEAM_PART_PX && t1 - order[s].0 >= MIN_SEAM_PART_PX)
+        .map(|s| {
+            let ((ma, ea), (mb, eb)) = (part(0, s), part(s, n));
+            (ea + eb, (ma - mb).abs(), s)
         })
-        .collect()
+        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let f = (line_sse - sse) / (sse / (n as f64 - 3.0)).max(1e-9);
+    (step >= MIN_SEAM_STEP_PX && f >= MIN_STEP_F).then_some(s)
 }
 
 /// Minimum local darkness of a seam pixel, gray levels. The renderer's seams are 35 against a
@@ -182,6 +274,55 @@ fn fit_line_weighted(points: &[DVec2], weights: &[f64]) -> Option<(DVec2, DVec2)
 mod tests {
     use super::*;
     use crate::drawing::EdgeAxis;
+    use crate::vision::lines::test_segment;
+    use image::Luma;
+
+    /// A 100 x 100 picture of faces at gray 150 with a 1 px seam at gray 35 along each
+    /// segment (picture px, y up), drawn one pixel per row.
+    fn seams_picture(segments: &[(DVec2, DVec2)]) -> GrayImage {
+        let mut img = GrayImage::from_pixel(100, 100, Luma([150]));
+        for &(a, b) in segments {
+            let (lo, hi) = (a.y.min(b.y).ceil() as i64, a.y.max(b.y).floor() as i64);
+            for y in lo..=hi {
+                let x = a.x + (b.x - a.x) * (y as f64 - a.y) / (b.y - a.y);
+                img.put_pixel(x.floor() as u32, (99 - y) as u32, Luma([35]));
+            }
+        }
+        img
+    }
+
+    fn turn_deg(l: &FittedLine, u: DVec2) -> f64 {
+        let a = l.direction.angle_to(u).to_degrees().abs();
+        a.min(180.0 - a)
+    }
+
+    #[test]
+    fn two_uprights_a_step_apart_are_cut_into_two_lines_but_one_seam_is_not() {
+        // A lower upright at x = 40.5 (rows 20-50) and an upper one 3 px aside (rows 51-80),
+        // found as one line between them.
+        let one_line = test_segment(0, DVec2::new(42.0, 20.0), DVec2::new(42.0, 80.0));
+        let img = seams_picture(&[
+            (DVec2::new(40.5, 20.5), DVec2::new(40.5, 50.5)),
+            (DVec2::new(43.5, 51.0), DVec2::new(43.5, 80.5)),
+        ]);
+        let out = refine_lines_on_seams(&img, &[one_line], &LineOptions::default());
+        assert_eq!(out.len(), 2, "{out:?}");
+        for (l, x) in out.iter().zip([40.5, 43.5]) {
+            assert!(turn_deg(l, DVec2::Y) < 0.5, "{l:?}");
+            assert!((l.centroid_px.x - x).abs() < 0.3, "{l:?} not at {x}");
+        }
+        // A worse input for the cut: one straight seam, slanted a little, stays one line.
+        let img = seams_picture(&[(DVec2::new(40.5, 20.5), DVec2::new(43.5, 80.5))]);
+        let out = refine_lines_on_seams(&img, &[one_line], &LineOptions::default());
+        assert_eq!(out.len(), 1, "{out:?}");
+        // Nor do two seams half a step apart.
+        let img = seams_picture(&[
+            (DVec2::new(40.5, 20.5), DVec2::new(40.5, 50.5)),
+            (DVec2::new(41.5, 51.0), DVec2::new(41.5, 80.5)),
+        ]);
+        let out = refine_lines_on_seams(&img, &[one_line], &LineOptions::default());
+        assert_eq!(out.len(), 1, "{out:?}");
+    }
 
     #[test]
     fn floor_i64_is_floor_everywhere_it_is_used() {
