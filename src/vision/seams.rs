@@ -68,6 +68,7 @@ fn split_at_seam_step(l: &FittedLine, pts: &[DVec2], weights: &[f64]) -> Option<
             centroid_px: (from + to) / 2.0,
             from_px: from,
             to_px: to,
+            // Counted in the part's own seam pixels: the band's pixels are not split.
             support: p.len(),
             ..*l
         };
