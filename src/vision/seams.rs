@@ -7,14 +7,14 @@ use image::GrayImage;
 
 /// Refines lines that sit on a dark seam (the renderer draws ~1 px dark lines along block
 /// edges between faces): the edge map's band is lopsided when the faces on the two sides differ
-/// in brightness, so its centre can miss the seam by most of a pixel. A line whose seam steps
-/// across is returned as two ([`split_at_seam_step`]). A pixel within
+/// in brightness, so its centre can miss the seam by most of a pixel. A pixel within
 /// `SEAM_SEARCH_PX` of the line is a seam pixel when it is darker, by at least
 /// [`MIN_SEAM_CONTRAST`] gray levels, than both pixels `SEAM_SIDE_PX` away across the line (a
 /// local test, so faces that change along the line do not matter). When seam pixels cover at
 /// least half the line's length, the line is re-fitted by least squares on them, weighted by
-/// their darkness. Other lines (a plain step, e.g. a silhouette against the background, whose
-/// band is symmetric) are kept as they are.
+/// their darkness; a line whose seam steps across is returned as two
+/// ([`split_at_seam_step`]). Other lines (a plain step, e.g. a silhouette against the
+/// background, whose band is symmetric) are kept as they are.
 pub fn refine_lines_on_seams(
     gray: &GrayImage,
     lines: &[FittedLine],
@@ -316,7 +316,7 @@ mod tests {
         let img = seams_picture(&[(DVec2::new(40.5, 20.5), DVec2::new(43.5, 80.5))]);
         let out = refine_lines_on_seams(&img, &[one_line], &LineOptions::default());
         assert_eq!(out.len(), 1, "{out:?}");
-        // Nor do two seams half a step apart.
+        // Nor do two seams 1 px apart, under the 1.5 px step that cuts.
         let img = seams_picture(&[
             (DVec2::new(40.5, 20.5), DVec2::new(40.5, 50.5)),
             (DVec2::new(41.5, 51.0), DVec2::new(41.5, 80.5)),
