@@ -3,8 +3,11 @@
 //! 20 gray levels, and a camera picture in dim or flat light shows block edges fainter than
 //! that. When the first reading's answer declines for what a missed line causes (no block, a
 //! view not explained, lines in no block direction, an imprecise place), the pictures are read
-//! again at [`FAINTER_THRESHOLDS`], one after the other, and the first `ok` answer is taken,
-//! under the stricter placement bar `RecognizeOptions::every_view_places`: a fainter reading
+//! again at [`FAINTER_THRESHOLDS`], one after the other, and last at the faintest with the
+//! steps along the block directions added (`vision::oriented_edge_map`;
+//! docs/recognizer-pictures.md "Steps read along the block directions"), and the first `ok`
+//! answer is taken, under the stricter placement bar `RecognizeOptions::every_view_places`
+//! (and, for the last reading, `RecognizeOptions::two_views_place`): a fainter reading
 //! draws more lines of shading and noise, and its answers are held to every view's corners.
 //! Lowering the threshold of every reading instead loses more answers than it gains (the
 //! faint lines of shading then decline scenes the first reading answers).
@@ -14,12 +17,16 @@ use crate::recognize::{
     decline_kind, recognize_in_pictures, ObservedView, Recognition, RecognizeOptions,
 };
 use crate::scene::ReconStatus;
-use crate::vision::{detect_line_drawing, VisionOptions};
+use crate::vision::{detect_line_drawing, OrientedOptions, VisionOptions};
 use image::GrayImage;
 
 /// The edge thresholds of the readings after the first, in order (smoothed Sobel magnitude:
 /// steps of about 14 and 10 gray levels).
 pub const FAINTER_THRESHOLDS: [u16; 2] = [56, 40];
+
+/// The edge threshold of the last reading, which adds the steps along the block directions:
+/// the faintest of [`FAINTER_THRESHOLDS`].
+pub const ALONG_AXES_THRESHOLD: u16 = FAINTER_THRESHOLDS[FAINTER_THRESHOLDS.len() - 1];
 
 /// The declines after which the pictures are read again ([`DECLINE_KINDS`] names): what a line
 /// too faint for the first reading causes. Never after what Chapter VII says the method cannot
@@ -41,6 +48,9 @@ pub struct Reading {
     pub recognition: Recognition,
     /// The edge threshold of the reading that answered (the first reading's when none did).
     pub threshold: u16,
+    /// Whether the reading that answered also read the steps along the block directions
+    /// (`vision::oriented_edge_map`, the last reading).
+    pub along_axes: bool,
     /// The views of the fainter reading that answered; `None` when the first reading's answer
     /// stands.
     pub views: Option<Vec<ObservedView>>,
@@ -49,7 +59,8 @@ pub struct Reading {
 /// `first`, the answer of the views read from `pictures` (one per camera of `cameras`, in the
 /// same order) with `vision`, or, when it declines for a reason in [`READ_AGAIN_AFTER`], the
 /// first `ok` answer of the pictures read again at each of [`FAINTER_THRESHOLDS`] below
-/// `vision`'s threshold (module doc). A fainter reading the front end refuses (too many edge
+/// `vision`'s threshold, then at the faintest along the block directions when `vision` does
+/// not already read so (module doc). A fainter reading the front end refuses (too many edge
 /// pixels) ends the readings.
 pub fn read_again_fainter(
     first: Recognition,
@@ -69,17 +80,30 @@ pub fn read_again_fainter(
             every_view_places: true,
             ..*opts
         };
-        for &t in FAINTER_THRESHOLDS.iter().filter(|&&t| t < threshold) {
-            let Some(views) = read_at(pictures, cameras, vision, t) else {
+        let readings = FAINTER_THRESHOLDS
+            .iter()
+            .filter(|&&t| t < threshold)
+            .map(|&t| (t, None))
+            .chain(vision.oriented.is_none().then_some((
+                ALONG_AXES_THRESHOLD.min(threshold),
+                Some(OrientedOptions::default()),
+            )));
+        for (t, oriented) in readings {
+            let Some(views) = read_at(pictures, cameras, vision, t, oriented) else {
                 break;
             };
-            let Ok(answer) = recognize_in_pictures(&views, pictures, &strict) else {
+            let opts = RecognizeOptions {
+                two_views_place: oriented.is_some(),
+                ..strict
+            };
+            let Ok(answer) = recognize_in_pictures(&views, pictures, &opts) else {
                 break;
             };
             if answer.status == ReconStatus::Ok {
                 return Reading {
                     recognition: answer,
                     threshold: t,
+                    along_axes: oriented.is_some(),
                     views: Some(views),
                 };
             }
@@ -88,19 +112,23 @@ pub fn read_again_fainter(
     Reading {
         recognition: first,
         threshold,
+        along_axes: vision.oriented.is_some(),
         views: None,
     }
 }
 
 /// The views of `pictures` read by the front end at edge threshold `t` (hysteresis, if any,
-/// kept below it); `None` when the front end refuses a picture.
+/// kept below it), with the steps along the block directions when `oriented` is set; `None`
+/// when the front end refuses a picture.
 fn read_at(
     pictures: &[&GrayImage],
     cameras: &[Camera],
     vision: &VisionOptions,
     t: u16,
+    oriented: Option<OrientedOptions>,
 ) -> Option<Vec<ObservedView>> {
     let mut o = *vision;
+    o.oriented = oriented.or(o.oriented);
     o.edges.threshold = t;
     o.edges.weak_threshold = o.edges.weak_threshold.min(t);
     pictures
@@ -135,7 +163,7 @@ mod tests {
         let cameras: Vec<Camera> = exact.iter().map(|v| v.camera).collect();
         let vision = VisionOptions::default();
         let opts = RecognizeOptions::default();
-        let views = read_at(&refs, &cameras, &vision, vision.edges.threshold).unwrap();
+        let views = read_at(&refs, &cameras, &vision, vision.edges.threshold, None).unwrap();
         let first = recognize_in_pictures(&views, &refs, &opts).unwrap();
         (
             truth,
@@ -145,8 +173,8 @@ mod tests {
 
     /// Ink 40 on 150 is read at the first threshold; ink 128 and ink 134 (steps of 22 and 16
     /// levels on a line 1.6 px wide, under Chapter VI's threshold once smoothed) only by the
-    /// second and third readings, which answer the cube; ink 146 by none, and the answer stays
-    /// a decline.
+    /// second and third readings, which answer the cube; ink 146 (4 levels) only along the
+    /// block directions by the last reading; ink 148 by none, and the answer stays a decline.
     #[test]
     fn a_drawing_too_faint_for_the_first_threshold_is_read_again_fainter() {
         let (truth, strong) = read(40);
@@ -158,10 +186,16 @@ mod tests {
             let r = &faint.recognition;
             assert_eq!(r.status, ReconStatus::Ok, "ink {ink}: {:?}", r.reason);
             assert_eq!(faint.threshold, threshold, "ink {ink}");
+            assert!(!faint.along_axes, "ink {ink}");
             assert!(faint.views.is_some());
             assert!(same_blocks(&r.blocks, &truth, 0.1), "{:?}", r.blocks);
         }
-        let (_, unseen) = read(146);
+        let (_, faintest) = read(146);
+        let r = &faintest.recognition;
+        assert_eq!(r.status, ReconStatus::Ok, "ink 146: {:?}", r.reason);
+        assert!(faintest.along_axes);
+        assert!(same_blocks(&r.blocks, &truth, 0.1), "{:?}", r.blocks);
+        let (_, unseen) = read(148);
         assert_eq!(unseen.recognition.status, ReconStatus::Unsupported);
         assert!(unseen.views.is_none());
     }

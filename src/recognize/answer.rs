@@ -46,6 +46,11 @@ pub struct RecognizeOptions {
     /// second reading of fainter lines sets it (docs/recognizer-pictures.md "A second reading
     /// of fainter lines").
     pub every_view_places: bool,
+    /// At least two views must each fix every group's place by their own corners
+    /// (`placement::unmeasured_in_views`); default `false`. The last reading, along the block
+    /// directions, sets it (docs/recognizer-pictures.md "Steps read along the block
+    /// directions").
+    pub two_views_place: bool,
 }
 
 /// The search's default node budget: the hardest scene of the suites and the accuracy gate
@@ -70,6 +75,7 @@ impl Default for RecognizeOptions {
             node_budget: DEFAULT_NODE_BUDGET,
             time_budget_s: DEFAULT_TIME_BUDGET_S,
             every_view_places: false,
+            two_views_place: false,
         }
     }
 }
@@ -152,6 +158,15 @@ pub enum Decline {
         block: usize,
         /// The view whose corners put it off.
         view: String,
+    },
+    /// Fewer than two views place a block's group by their own corners
+    /// ([`RecognizeOptions::two_views_place`]).
+    #[error("block {block} is not placed to an exact answer's precision: {views} of the views fix its place by their own corners (when the pictures are read along the block directions, at least two views must)")]
+    UnmeasuredInViews {
+        /// Index of the block in the hypothesis.
+        block: usize,
+        /// How many views fix its group's shift by themselves.
+        views: usize,
     },
     /// No block in any view: an answer without blocks explains nothing.
     #[error("no block found in the views ({points} points, {lines} lines drawn in all): an answer without blocks explains nothing; give views that show the blocks, pictures at least 8 px a side (docs/limits.md \"Render\")")]

@@ -13,7 +13,9 @@ use super::direct::{direct_hypothesis_within, Silhouettes};
 use super::edge_profile::ViewPicture;
 use super::parallelogram::{Face, ParallelogramSearch};
 use super::picture::{pictures_mismatch, without_weak_lines};
-use super::placement::{imprecisely_placed, misplaced_in_a_view, placed_by_all_views};
+use super::placement::{
+    imprecisely_placed, misplaced_in_a_view, placed_by_all_views, unmeasured_in_views,
+};
 use super::repair::{cracks_resolved, repaired_in_pictures};
 use super::select::select_vertices;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
@@ -314,6 +316,11 @@ pub(super) fn final_checks(
     if let Some((block, shift)) = imprecisely_placed(blocks, &h.drawn, views, opts.tol_px) {
         let shift_mm = shift.length();
         return Some(Decline::Imprecise { block, shift_mm });
+    }
+    if opts.two_views_place {
+        if let Some((block, n)) = unmeasured_in_views(blocks, &h.drawn, views, opts.tol_px) {
+            return Some(Decline::UnmeasuredInViews { block, views: n });
+        }
     }
     if opts.every_view_places {
         let misplaced = misplaced_in_a_view(blocks, &h.drawn, views, opts.tol_px);

@@ -4,7 +4,9 @@
 //! 1. [`sobel_magnitude`], [`smooth_3x3`], [`threshold`]: the Sobel operator of Chapter II
 //!    (eq. 2.1, Figure 2.7) with the 3x3 smoothing and the threshold of Chapter VI, giving a
 //!    binary edge map ([`EdgeOptions`], default threshold 80 as in the thesis); [`edge_map`]
-//!    computes the three in one pass over the picture.
+//!    computes the three in one pass over the picture. With [`VisionOptions::oriented`] set,
+//!    [`oriented_edge_map`] adds the pixels of faint steps read along the block directions
+//!    (the recognizer's last reading of a declined picture).
 //! 2. [`fit_lines`]: straight segments along the three picture directions of block edges
 //!    ([`edge_directions`], from the camera: parallel, or through vanishing points), each fitted by least squares (Ch. VI).
 //!    [`drop_soft_edges`] drops lines along soft shading (a shadow's penumbra, read across
@@ -34,6 +36,7 @@ mod eval;
 mod faint;
 mod gaps;
 mod lines;
+mod oriented;
 mod seams;
 mod soft;
 mod vertices;
@@ -56,6 +59,7 @@ pub use lines::{
     edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,
     picture_directions, picture_from_raster, EdgeDirection, FittedLine, LineOptions,
 };
+pub use oriented::{oriented_edge_map, union_of_edge_maps, OrientedOptions};
 pub use seams::refine_lines_on_seams;
 pub use soft::{drop_soft_edges, step_sharpness, STEP_SHARPNESS_MIN};
 pub use vertices::{find_vertices, VertexOptions};
@@ -73,6 +77,9 @@ pub const MAX_PICTURE_SIDE_PX: u32 = 8192;
 pub struct VisionOptions {
     /// Step 1: Sobel, smoothing, threshold.
     pub edges: EdgeOptions,
+    /// Step 1b: when set, the edge pixels of faint steps along the block directions are added
+    /// to step 1's ([`oriented_edge_map`]); off by default, as in the thesis.
+    pub oriented: Option<OrientedOptions>,
     /// Step 2: line finding and fitting.
     pub lines: LineOptions,
     /// Step 2b: free line ends carried on to the line they stop short of.
@@ -273,7 +280,21 @@ fn detect_from_edges(
         .iter()
         .partition(|(k, _)| EdgeAxis::BLOCK_AXES.contains(k));
     let list = votes::EdgeList::new(&edges);
-    let mut lines = lines::fit_lines_on(&edges, &list, &axes, &opts.lines);
+    // Step 1b's pixels feed the block-axis lines only: the sloped lines and the curves are
+    // read from Chapter VI's edges, as without it (a penumbra's faint arc is no rim).
+    let with_faint = opts.oriented.map(|o| {
+        let dirs: Vec<EdgeDirection> = axes.iter().map(|(_, d)| *d).collect();
+        let mut union = edges.clone();
+        union_of_edge_maps(&mut union, &oriented_edge_map(image, &dirs, &o));
+        union
+    });
+    let mut lines = match &with_faint {
+        Some(union) => {
+            let union_list = votes::EdgeList::new(union);
+            lines::fit_lines_on(union, &union_list, &axes, &opts.lines)
+        }
+        None => lines::fit_lines_on(&edges, &list, &axes, &opts.lines),
+    };
     if !others.is_empty() {
         let residue = curves::residue_map_on(&edges, &list, &lines);
         let sloped = fit_lines(&residue, &others, &opts.lines);

@@ -7,8 +7,8 @@ use crate::cli::files::{read_camera, read_picture};
 use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::vision::{
-    detect_line_drawing_with_progress, EdgeOptions, FaintEdgeOptions, GapOptions, VisionOptions,
-    VISION_STEPS,
+    detect_line_drawing_with_progress, EdgeOptions, FaintEdgeOptions, GapOptions, OrientedOptions,
+    VisionOptions, VISION_STEPS,
 };
 use std::path::PathBuf;
 
@@ -39,6 +39,11 @@ pub struct Args {
     /// Longest stretch a line's free end is carried on to the line ahead, px.
     #[arg(long, default_value_t = GapOptions::default().max_gap_px)]
     pub max_gap: f64,
+    /// Also mark the faint steps along the block directions, each read over 11 px along its
+    /// direction (docs/recognizer-pictures.md "Steps read along the block directions"), as
+    /// the last reading of `recognize` does.
+    #[arg(long)]
+    pub oriented: bool,
 }
 
 /// Runs `blockworld vertices`.
@@ -70,6 +75,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     opts.faint.min_step_levels = args.faint_min_step;
     opts.faint.min_share = args.faint_min_share;
     opts.gaps.max_gap_px = args.max_gap;
+    opts.oriented = args.oriented.then(OrientedOptions::default);
     let det = with_progress("vertices", "steps", VISION_STEPS, |p| {
         detect_line_drawing_with_progress(&gray, &camera, &opts, p)
     })
