@@ -63,15 +63,21 @@ impl OrientedOptions {
 /// The change across `c` along `u` (unit, picture px), taken over `half` px either side: the
 /// median of `gray(p + n) - gray(p - n)` for `p = c + s u`, `n` the unit normal of `u`, so a
 /// strong edge crossing the window at a few samples does not carry it; `None` when a sample
-/// falls outside the picture.
-fn change_across(gray: &GrayImage, c: DVec2, u: DVec2, half: usize) -> Option<f64> {
+/// falls outside the picture. `changes` is scratch space, reused from pixel to pixel.
+fn change_across(
+    gray: &GrayImage,
+    c: DVec2,
+    u: DVec2,
+    half: usize,
+    changes: &mut Vec<f64>,
+) -> Option<f64> {
     let n = u.perp();
-    let mut changes = Vec::with_capacity(2 * half + 1);
+    changes.clear();
     for s in -(half as i64)..=half as i64 {
         let p = c + u * s as f64;
         changes.push(gray_at(gray, p + n)? - gray_at(gray, p - n)?);
     }
-    median(&mut changes)
+    median(changes)
 }
 
 /// The change across each pixel of `gray` along `dir` ([`change_across`] at the pixel's
@@ -79,11 +85,12 @@ fn change_across(gray: &GrayImage, c: DVec2, u: DVec2, half: usize) -> Option<f6
 fn changes_along(gray: &GrayImage, dir: &EdgeDirection, half: usize) -> Vec<f64> {
     let (w, h) = gray.dimensions();
     let mut out = vec![0.0; (w * h) as usize];
+    let mut changes = Vec::with_capacity(2 * half + 1);
     for row in 0..h {
         let y = f64::from(h - 1 - row) + 0.5;
         for x in 0..w {
             let c = DVec2::new(f64::from(x) + 0.5, y);
-            let m = change_across(gray, c, dir.at(c), half).map_or(0.0, f64::abs);
+            let m = change_across(gray, c, dir.at(c), half, &mut changes).map_or(0.0, f64::abs);
             out[(row * w + x) as usize] = m;
         }
     }
