@@ -59,7 +59,7 @@ pub use lines::{
     edge_directions, fit_line_least_squares, fit_lines, isometric_edge_directions,
     picture_directions, picture_from_raster, EdgeDirection, FittedLine, LineOptions,
 };
-pub use oriented::{oriented_edge_map, union_of_edge_maps, OrientedOptions};
+pub use oriented::{oriented_edge_map, OrientedOptions};
 pub use seams::refine_lines_on_seams;
 pub use soft::{drop_soft_edges, step_sharpness, STEP_SHARPNESS_MIN};
 pub use vertices::{find_vertices, VertexOptions};
@@ -67,6 +67,7 @@ pub use vertices::{find_vertices, VertexOptions};
 use crate::camera::Camera;
 use crate::drawing::{EdgeAxis, LineDrawing};
 use image::GrayImage;
+use oriented::union_of_edge_maps;
 
 /// Largest picture side accepted, px (the renderer's `--size` limit). Larger pictures get
 /// [`VisionError::TooLarge`] instead of gigabytes of intermediate images.

@@ -149,7 +149,7 @@ pub const BESIDE_PX: f64 = 3.0;
 pub const STEP_OVER_BESIDE: f64 = 3.0;
 
 /// `edges` with every pixel marked in `more` marked too (both 0/1 maps of one size).
-pub fn union_of_edge_maps(edges: &mut GrayImage, more: &GrayImage) {
+pub(super) fn union_of_edge_maps(edges: &mut GrayImage, more: &GrayImage) {
     for (e, m) in edges.as_mut().iter_mut().zip(more.as_raw()) {
         *e = (*e).max(*m);
     }
