@@ -205,11 +205,26 @@ pub fn recognize_rendered_standing(
     let pictures: Vec<&image::GrayImage> = rendered.iter().map(|v| &v.gray).collect();
     let cameras: Vec<Camera> = rendered.iter().map(|v| v.camera).collect();
     let first = recognize_in_pictures(views, &pictures, opts)?;
-    let reading = read_again_fainter(first, &pictures, &cameras, vision, opts);
-    Ok(check_answer_stands(
-        reading.recognition,
-        &SettleParams::default(),
-    ))
+    Ok(answer_of_pictures(first, &pictures, &cameras, vision, opts).0)
+}
+
+/// The answer `blockworld recognize` gives for views read from `pictures` (one per camera of
+/// `cameras`, in the same order) with `vision`, given `first`, the recognizer's answer on
+/// them: read again fainter when it declines for what a missed line causes
+/// ([`read_again_fainter`]), then held to standing ([`check_answer_stands`]); with the views
+/// of the fainter reading that answered (`None`: the first reading's stand). The one home of
+/// these two steps, so that `recognize`, `recognize-dataset`, the benches and the gate score
+/// the same answer for the same pictures.
+pub fn answer_of_pictures(
+    first: Recognition,
+    pictures: &[&image::GrayImage],
+    cameras: &[Camera],
+    vision: &VisionOptions,
+    opts: &RecognizeOptions,
+) -> (Standing, Option<Vec<ObservedView>>) {
+    let reading = read_again_fainter(first, pictures, cameras, vision, opts);
+    let standing = check_answer_stands(reading.recognition, &SettleParams::default());
+    (standing, reading.views)
 }
 
 /// Renders `scene`, recognizes it and scores the answer against it (see the module doc).

@@ -3,8 +3,10 @@
 //! ([`SettleParams::default`]) and declined, with the block, its displacement and the cause,
 //! when a block would move beyond the tolerances. Declines and errors pass through untouched:
 //! the check only turns answers into declines. Every caller of the recognizer goes through
-//! [`recognize_standing`]: `blockworld recognize`, [`super::run_scene`] (`bench accuracy`,
-//! the accuracy gate), `demo` and `bench recognize` (through [`super::recognize_rendered`]).
+//! [`recognize_standing`] or, when the drawings were read from pictures,
+//! [`super::answer_of_pictures`]: `blockworld recognize`, `recognize-dataset`,
+//! [`super::run_scene`] (`bench accuracy`, the accuracy gate), `bench accuracy --pictures`,
+//! `demo` and `bench recognize` (through [`super::recognize_rendered`]).
 
 use crate::physics::{check_standing, SettleParams};
 use crate::recognize::RecognizeOptions;

@@ -10,8 +10,7 @@ use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
-use blockworld::physics::SettleParams;
-use blockworld::pipeline::{check_answer_stands, read_again_fainter};
+use blockworld::pipeline::answer_of_pictures;
 use blockworld::recognize::{
     recognize_with_progress, ObservedView, Recognition, RecognizeOptions, SearchProgress,
 };
@@ -147,8 +146,9 @@ fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
 }
 
 /// Reads `views` of the folder `dir` ([`read_view`]) and recognizes them (the search's progress
-/// on stderr when `shown`), the answer checked to stand (`pipeline::check_answer_stands`);
-/// returns the observed views and the answer.
+/// on stderr when `shown`), read again fainter when it declines for a missed line and checked
+/// to stand (`pipeline::answer_of_pictures`); returns the views that gave the answer and
+/// the answer.
 pub(super) fn recognize_folder(
     dir: &Path,
     views: &[CornerView],
@@ -170,11 +170,8 @@ pub(super) fn recognize_folder(
         .with_context(|| format!("recognizing {}", dir.display()))?;
     let cameras: Vec<Camera> = observed.iter().map(|v| v.camera).collect();
     let vision = VisionOptions::default();
-    let reading = read_again_fainter(recognition, &pictures, &cameras, &vision, opts);
-    let observed = reading.views.unwrap_or(observed);
-    let recognition =
-        check_answer_stands(reading.recognition, &SettleParams::default()).recognition;
-    Ok((observed, recognition))
+    let (standing, read) = answer_of_pictures(recognition, &pictures, &cameras, &vision, opts);
+    Ok((read.unwrap_or(observed), standing.recognition))
 }
 
 /// Runs `blockworld recognize`.

@@ -2,8 +2,9 @@
 //! (docs/yardstick.md). DIR is laid out as a dataset: per scene a folder with `scene.json` (the
 //! truth), and per view `view_<v>.png` beside the `camera_<v>.json` it was drawn through, as
 //! `bench/blender/render_dataset.py` writes it. Every scene is recognized from those pictures
-//! alone (vision front end, then the modified Kanade recognizer with its picture-aware check)
-//! and scored; in the same run blockworld draws the same scenes through the same cameras in its
+//! alone, as `blockworld recognize` reads them (vision front end, the modified Kanade
+//! recognizer with its picture-aware check, the fainter readings, the standing check) and
+//! scored; in the same run blockworld draws the same scenes through the same cameras in its
 //! line art and its photo look, so the figures stand side by side on the same scenes.
 
 use super::accuracy::Args;
@@ -11,7 +12,9 @@ use crate::cli::files::{read_camera, read_picture};
 use anyhow::{bail, Context};
 use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
-use blockworld::pipeline::{run_scene, run_suite, DrawingSource, PipelineOptions};
+use blockworld::pipeline::{
+    answer_of_pictures, run_scene, run_suite, DrawingSource, PipelineOptions,
+};
 use blockworld::recognize::{recognize_in_pictures, ObservedView};
 use blockworld::render::{Look, RenderOptions, Renderer};
 use blockworld::scene::{read_scene, Scene};
@@ -251,14 +254,20 @@ fn check_cameras(
     Ok(())
 }
 
-/// Recognizes one scene from its pictures and scores it; an unreadable picture or a vision or
+/// Recognizes one scene from its pictures as `blockworld recognize` does (read again fainter
+/// when the first reading declines for a missed line, the answer held to standing:
+/// `pipeline::answer_of_pictures`) and scores it; an unreadable picture or a vision or
 /// recognizer error is a `failed` result with the reason.
 fn recognize_pictures(s: &PictureScene, views: &[CornerView]) -> SceneResult {
     let answer = observe_pictures(s, views).and_then(|(observed, pictures)| {
         let pictures: Vec<&GrayImage> = pictures.iter().collect();
-        let recognition =
-            recognize_in_pictures(&observed, &pictures, &PipelineOptions::default().recognize)
-                .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
+        let opts = PipelineOptions::default().recognize;
+        let first = recognize_in_pictures(&observed, &pictures, &opts)
+            .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
+        let cameras: Vec<Camera> = observed.iter().map(|v| v.camera).collect();
+        let vision = VisionOptions::default();
+        let (standing, _) = answer_of_pictures(first, &pictures, &cameras, &vision, &opts);
+        let recognition = standing.recognition;
         Ok(reconstruction(
             &s.truth.name,
             &recognition,
@@ -353,7 +362,9 @@ fn write_report(
 mod tests {
     use super::*;
     use blockworld::camera::{camera_json, Projection};
-    use blockworld::scene::{write_scene, Block};
+    use blockworld::geom::{distance_to_segment_px, DVec2};
+    use blockworld::recognize::draw_hypothesis;
+    use blockworld::scene::{write_scene, Block, ReconStatus};
 
     /// A one-block scene folder with the ne camera framed by `projection` (no picture yet).
     fn scene_folder(root: &Path, projection: Projection) -> (PathBuf, Scene) {
@@ -370,6 +381,60 @@ mod tests {
         let camera = Camera::frame(&points, CornerView::Ne, &render.camera);
         std::fs::write(folder.join("camera_ne.json"), camera_json(&camera)).unwrap();
         (folder, scene)
+    }
+
+    /// A folder of the four corner views of one `b15` cube, its edges inked `ink` on a floor of
+    /// gray 150 (a line 1.6 px wide), each beside its camera; returns the folder's root.
+    fn faint_cube_folder(root: &Path, ink: u8) -> PathBuf {
+        let folder = root.join("s000000");
+        std::fs::create_dir_all(&folder).unwrap();
+        let scene = Scene::new(
+            "s000000",
+            vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)],
+        );
+        write_scene(&folder.join("scene.json"), &scene).unwrap();
+        let render = RenderOptions::default();
+        for view in CornerView::ALL {
+            let camera = Camera::frame(&scene.world_vertices(), view, &render.camera);
+            let d = draw_hypothesis(&scene.blocks, &camera);
+            let [w, h] = camera.size_px;
+            let picture = GrayImage::from_fn(w, h, |x, r| {
+                let p = DVec2::new(f64::from(x) + 0.5, f64::from(h - r) - 0.5);
+                let inked = d
+                    .lines
+                    .iter()
+                    .any(|&[i, j]| distance_to_segment_px(p, d.points[i], d.points[j]) <= 0.8);
+                image::Luma([if inked { ink } else { 150 }])
+            });
+            let name = view.name();
+            picture
+                .save(folder.join(format!("view_{name}.png")))
+                .unwrap();
+            let camera_file = folder.join(format!("camera_{name}.json"));
+            std::fs::write(camera_file, camera_json(&camera)).unwrap();
+        }
+        root.to_path_buf()
+    }
+
+    /// Someone else's pictures are recognized as `blockworld recognize` recognizes them: edges
+    /// 16 gray levels from the floor, under Chapter VI's threshold once smoothed, are answered
+    /// by a fainter reading (the first reading alone declines them); edges 2 levels from the
+    /// floor are declined, never answered wrong.
+    #[test]
+    fn faint_pictures_are_read_again_fainter_as_recognize_reads_them() {
+        for (ink, verdict) in [(134, Verdict::Exact), (148, Verdict::Unsupported)] {
+            let dir = tempfile::tempdir().unwrap();
+            let root = faint_cube_folder(dir.path(), ink);
+            let scenes = read_picture_scenes(&root, &CornerView::ALL).unwrap();
+            let (observed, pictures) = observe_pictures(&scenes[0], &CornerView::ALL).unwrap();
+            let pictures: Vec<&GrayImage> = pictures.iter().collect();
+            let opts = PipelineOptions::default().recognize;
+            let first = recognize_in_pictures(&observed, &pictures, &opts).unwrap();
+            assert_eq!(first.status, ReconStatus::Unsupported, "ink {ink}");
+            let r = recognize_pictures(&scenes[0], &CornerView::ALL);
+            assert_eq!(r.verdict, verdict, "ink {ink}: {r:?}");
+            assert!(!r.confidently_wrong, "ink {ink}");
+        }
     }
 
     #[test]
