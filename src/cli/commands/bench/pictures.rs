@@ -2,28 +2,25 @@
 //! (docs/yardstick.md). DIR is laid out as a dataset: per scene a folder with `scene.json` (the
 //! truth), and per view `view_<v>.png` beside the `camera_<v>.json` it was drawn through, as
 //! `bench/blender/render_dataset.py` writes it. Every scene is recognized from those pictures
-//! alone, as `blockworld recognize` reads them (vision front end, the modified Kanade
-//! recognizer with its picture-aware check, the fainter readings, the standing check) and
+//! alone, by `blockworld recognize`'s own reading of a folder (vision front end, the modified
+//! Kanade recognizer with its picture-aware check, the fainter readings, the standing check) and
 //! scored; in the same run blockworld draws the same scenes through the same cameras in its
 //! line art and its photo look, so the figures stand side by side on the same scenes.
 
 use super::accuracy::Args;
-use crate::cli::files::{read_camera, read_picture};
+use crate::cli::commands::recognize::recognize_folder;
+use crate::cli::files::read_camera;
 use anyhow::{bail, Context};
 use blockworld::camera::{Camera, CornerView};
 use blockworld::csg::reconstruction;
-use blockworld::pipeline::{
-    answer_of_pictures, run_scene, run_suite, DrawingSource, PipelineOptions,
-};
-use blockworld::recognize::{recognize_in_pictures, ObservedView};
+use blockworld::pipeline::{run_scene, run_suite, DrawingSource, PipelineOptions};
 use blockworld::render::{Look, RenderOptions, Renderer};
 use blockworld::scene::{read_scene, Scene};
 use blockworld::score::{
     score_suite_scene, summarize_by_family, NoReconstruction, SceneResult, ScoreOptions, Verdict,
 };
-use blockworld::vision::{detect_line_drawing, VisionOptions};
+use blockworld::vision::VisionOptions;
 use glam::DVec3;
-use image::GrayImage;
 use std::path::{Path, PathBuf};
 
 /// Largest difference between a camera file's matrix entry and blockworld's own camera for the
@@ -254,53 +251,21 @@ fn check_cameras(
     Ok(())
 }
 
-/// Recognizes one scene from its pictures as `blockworld recognize` does (read again fainter
-/// when the first reading declines for a missed line, the answer held to standing:
-/// `pipeline::answer_of_pictures`) and scores it; an unreadable picture or a vision or
-/// recognizer error is a `failed` result with the reason.
+/// Recognizes one scene from its pictures with `blockworld recognize`'s own reading of a folder
+/// (the fainter readings and the standing check included: `recognize::recognize_folder`) and
+/// scores it; an unreadable file or a vision or recognizer error is a `failed` result with the
+/// reason.
 fn recognize_pictures(s: &PictureScene, views: &[CornerView]) -> SceneResult {
-    let answer = observe_pictures(s, views).and_then(|(observed, pictures)| {
-        let pictures: Vec<&GrayImage> = pictures.iter().collect();
-        let opts = PipelineOptions::default().recognize;
-        let first = recognize_in_pictures(&observed, &pictures, &opts)
-            .map_err(|e| NoReconstruction(format!("recognizer: {e}")))?;
-        let cameras: Vec<Camera> = observed.iter().map(|v| v.camera).collect();
-        let vision = VisionOptions::default();
-        let (standing, _) = answer_of_pictures(first, &pictures, &cameras, &vision, &opts);
-        let recognition = standing.recognition;
-        Ok(reconstruction(
-            &s.truth.name,
-            &recognition,
-            PipelineOptions::default().layer_tol_mm,
-        ))
-    });
+    let opts = PipelineOptions::default();
+    let answer = recognize_folder(&s.folder, views, false, false, &opts.recognize)
+        .map(|(_, r)| reconstruction(&s.truth.name, &r, opts.layer_tol_mm))
+        .map_err(|e| NoReconstruction(format!("{e:#}")));
     score_suite_scene(
         &s.id,
         &s.truth,
         answer.as_ref().map_err(Clone::clone),
         &ScoreOptions::default(),
     )
-}
-
-/// Each view's drawing read from its picture by the vision front end, with the pictures.
-fn observe_pictures(
-    s: &PictureScene,
-    views: &[CornerView],
-) -> Result<(Vec<ObservedView>, Vec<GrayImage>), NoReconstruction> {
-    let mut observed = Vec::new();
-    let mut pictures = Vec::new();
-    for v in views {
-        let camera = read_camera(&s.folder.join(format!("camera_{}.json", v.name())))
-            .map_err(|e| NoReconstruction(format!("{e:#}")))?;
-        let picture = read_picture(&s.folder.join(format!("view_{}.png", v.name())))
-            .map_err(|e| NoReconstruction(format!("{e:#}")))?;
-        let drawing = detect_line_drawing(&picture, &camera, &VisionOptions::default())
-            .map_err(|e| NoReconstruction(format!("vision {}: {e}", v.name())))?
-            .drawing;
-        observed.push(ObservedView { drawing, camera });
-        pictures.push(picture);
-    }
-    Ok((observed, pictures))
 }
 
 /// Exact, declined and confidently wrong of each source over the supported scenes, and over
@@ -361,20 +326,27 @@ fn write_report(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::commands::recognize::read_view;
     use blockworld::camera::{camera_json, Projection};
     use blockworld::geom::{distance_to_segment_px, DVec2};
-    use blockworld::recognize::draw_hypothesis;
+    use blockworld::recognize::{draw_hypothesis, recognize_in_pictures, ObservedView};
     use blockworld::scene::{write_scene, Block, ReconStatus};
+    use image::GrayImage;
+
+    /// The folder `s000000` of `root` holding the scene file of one block of type `block_type`
+    /// on the floor at the origin.
+    fn one_block_folder(root: &Path, block_type: &str) -> (PathBuf, Scene) {
+        let folder = root.join("s000000");
+        std::fs::create_dir_all(&folder).unwrap();
+        let block = Block::new(block_type, DVec3::new(0.0, 7.5, 0.0), 0.0);
+        let scene = Scene::new("s000000", vec![block]);
+        write_scene(&folder.join("scene.json"), &scene).unwrap();
+        (folder, scene)
+    }
 
     /// A one-block scene folder with the ne camera framed by `projection` (no picture yet).
     fn scene_folder(root: &Path, projection: Projection) -> (PathBuf, Scene) {
-        let folder = root.join("s000000");
-        std::fs::create_dir_all(&folder).unwrap();
-        let scene = Scene::new(
-            "s000000",
-            vec![Block::new("b30", DVec3::new(0.0, 7.5, 0.0), 0.0)],
-        );
-        write_scene(&folder.join("scene.json"), &scene).unwrap();
+        let (folder, scene) = one_block_folder(root, "b30");
         let mut render = RenderOptions::default();
         render.camera.projection = projection;
         let points: Vec<DVec3> = scene.world_vertices();
@@ -386,13 +358,7 @@ mod tests {
     /// A folder of the four corner views of one `b15` cube, its edges inked `ink` on a floor of
     /// gray 150 (a line 1.6 px wide), each beside its camera; returns the folder's root.
     fn faint_cube_folder(root: &Path, ink: u8) -> PathBuf {
-        let folder = root.join("s000000");
-        std::fs::create_dir_all(&folder).unwrap();
-        let scene = Scene::new(
-            "s000000",
-            vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)],
-        );
-        write_scene(&folder.join("scene.json"), &scene).unwrap();
+        let (folder, scene) = one_block_folder(root, "b15");
         let render = RenderOptions::default();
         for view in CornerView::ALL {
             let camera = Camera::frame(&scene.world_vertices(), view, &render.camera);
@@ -426,8 +392,10 @@ mod tests {
             let dir = tempfile::tempdir().unwrap();
             let root = faint_cube_folder(dir.path(), ink);
             let scenes = read_picture_scenes(&root, &CornerView::ALL).unwrap();
-            let (observed, pictures) = observe_pictures(&scenes[0], &CornerView::ALL).unwrap();
-            let pictures: Vec<&GrayImage> = pictures.iter().collect();
+            let read = |v| read_view(&scenes[0].folder, v, false, false).unwrap();
+            let (observed, pictures): (Vec<ObservedView>, Vec<Option<GrayImage>>) =
+                CornerView::ALL.into_iter().map(read).unzip();
+            let pictures: Vec<&GrayImage> = pictures.iter().flatten().collect();
             let opts = PipelineOptions::default().recognize;
             let first = recognize_in_pictures(&observed, &pictures, &opts).unwrap();
             assert_eq!(first.status, ReconStatus::Unsupported, "ink {ink}");
