@@ -191,6 +191,34 @@ pub fn distance_to_segment_px(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + ab * t)
 }
 
+/// Liang–Barsky clipping of segment `p`–`q` to the axis-aligned box `[lo, hi]`: the parameter
+/// interval `[t0, t1]` of the segment inside it, or `None` when the segment misses the box.
+pub fn clip_segment_to_box(p: DVec2, q: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
+    let d = q - p;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let bounds = [
+        (-d.x, p.x - lo.x),
+        (d.x, hi.x - p.x),
+        (-d.y, p.y - lo.y),
+        (d.y, hi.y - p.y),
+    ];
+    for (den, num) in bounds {
+        if den == 0.0 {
+            if num < 0.0 {
+                return None;
+            }
+            continue;
+        }
+        let t = num / den;
+        if den < 0.0 {
+            t0 = t0.max(t);
+        } else {
+            t1 = t1.min(t);
+        }
+    }
+    (t1 > t0).then_some((t0, t1))
+}
+
 /// Axis-aligned bounds (min, max) of picture points; `None` when there are none.
 pub fn bounds2(points: impl IntoIterator<Item = DVec2>) -> Option<(DVec2, DVec2)> {
     points.into_iter().fold(None, |acc, v| match acc {

@@ -223,6 +223,7 @@ mod tests {
             depth,
             ids,
             lines: LineDrawing::default(),
+            towards_lights: Vec::new(),
         }
     }
 

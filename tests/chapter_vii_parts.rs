@@ -444,10 +444,7 @@ fn solid_and_trapezoidal_blocks_are_distinguished_by_gradient_figure_7_1() {
                 for g in &sloped {
                     check_sloped_gradient(g, slope, &cam, &what);
                 }
-                views.push(ObservedView {
-                    drawing: d,
-                    camera: cam,
-                });
+                views.push(ObservedView::new(d, cam));
             }
             // A 45-degree slope in a vertical plane projects parallel to a horizontal axis
             // where the viewing direction lies in the plane of the two (isometric corner views:
@@ -562,10 +559,7 @@ fn drawings_from_pictures(
         .into_iter()
         .map(|v| {
             let det = detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default()).unwrap();
-            blockworld::recognize::ObservedView {
-                drawing: det.drawing,
-                camera: v.camera,
-            }
+            blockworld::recognize::ObservedView::new(det.drawing, v.camera)
         })
         .collect()
 }

@@ -214,7 +214,7 @@ fn run_in_process(kind: Kind, m: &[u8]) {
                 return;
             };
             let _ = recognize(
-                &[ObservedView { drawing, camera }],
+                &[ObservedView::new(drawing, camera)],
                 &RecognizeOptions::default(),
             );
         }

@@ -316,3 +316,45 @@ fn rejected_long_numbers_are_echoed_short() {
     );
     assert!(!Path::new("unused").exists());
 }
+
+/// `recognize` reads the lights of a `look.json` beside the views: one that is not a look
+/// file, or that gives a light below the horizon, exits 2 naming the file and writes nothing;
+/// a hand-made one with only `views.<v>[].towards_light` is read, and the cube answered.
+#[test]
+fn recognize_names_a_bad_look_json_and_reads_a_hand_made_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::root().join("tests/fixtures/vision/single_cube");
+    let scene = dir.path().join("cube");
+    std::fs::create_dir(&scene).unwrap();
+    for v in ["ne", "se", "sw", "nw"] {
+        for f in [format!("camera_{v}.json"), format!("view_{v}.png")] {
+            std::fs::copy(cube.join(&f), scene.join(&f)).unwrap();
+        }
+    }
+    let out = dir.path().join("r.json");
+    let run = || {
+        blockworld([
+            "recognize",
+            &scene.to_string_lossy(),
+            "-o",
+            &out.to_string_lossy(),
+        ])
+    };
+    let look = scene.join("look.json");
+    for (text, says) in [
+        (r#"{"seed": 3}"#, "not a look.json"),
+        (
+            r#"{"views": {"ne": [{"towards_light": [1, -1, 0]}]}}"#,
+            "not a direction above the horizon",
+        ),
+    ] {
+        std::fs::write(&look, text).unwrap();
+        let err = fails_with_2(&run());
+        assert!(err.contains("look.json") && err.contains(says), "{err}");
+        assert!(!out.exists());
+    }
+    let lit = r#"{"views": {"ne": [{"towards_light": [0.5, 1, 0.2]}], "sw": []}}"#;
+    std::fs::write(&look, lit).unwrap();
+    let stdout = common::ok(run());
+    assert!(stdout.contains("1 blocks in 1 layers"), "{stdout}");
+}

@@ -86,7 +86,7 @@ fn mutated_real_drawings_are_answered_or_declined() {
                     }
                 }
                 drawing.finalize();
-                ObservedView { drawing, camera }
+                ObservedView::new(drawing, camera)
             })
             .collect();
         let r = recognize(&views, &RecognizeOptions::default()).unwrap();

@@ -186,10 +186,7 @@ fn from_rendered_pictures_through_vision_no_answer_is_confidently_wrong() {
             .map(|v| {
                 let det =
                     detect_line_drawing(&v.gray, &v.camera, &VisionOptions::default()).unwrap();
-                ObservedView {
-                    drawing: det.drawing,
-                    camera: v.camera,
-                }
+                ObservedView::new(det.drawing, v.camera)
             })
             .collect()
     };

@@ -3,8 +3,9 @@
 //! (`lines_<v>.json`, `vertices_<v>.json`, hand-made drawings).
 
 use anyhow::Context;
-use blockworld::camera::{parse_camera_json, Camera};
+use blockworld::camera::{parse_camera_json, Camera, CornerView};
 use blockworld::drawing::LineDrawing;
+use blockworld::geom::DVec3;
 use blockworld::scene::{read_scene_with_progress, Scene, SceneError};
 use blockworld::vision::decode_gray;
 use image::GrayImage;
@@ -43,6 +44,48 @@ pub fn read_camera(path: &Path) -> anyhow::Result<Camera> {
     let text =
         blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
     parse_camera_json(&text).with_context(|| format!("{}", path.display()))
+}
+
+/// The lights a scene folder's `look.json` records for one view (docs/varied-look.md
+/// "look.json": `views.<view>[].towards_light`, the unit vector towards each light); only
+/// that part of the file is read, so a hand-made `{"views": {"ne": [{"towards_light": [x, y,
+/// z]}]}}` serves as well. A view the file does not name has no known lights.
+pub fn read_recorded_lights(path: &Path, view: CornerView) -> anyhow::Result<Vec<DVec3>> {
+    #[derive(serde::Deserialize)]
+    struct Recorded {
+        views: std::collections::BTreeMap<String, Vec<RecordedLight>>,
+    }
+    #[derive(serde::Deserialize)]
+    struct RecordedLight {
+        towards_light: [f64; 3],
+    }
+    let text =
+        blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
+    let recorded: Recorded = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: not a look.json with \"views\": {{\"<view>\": [{{\"towards_light\": [x, y, z]}}]}}; regenerate the scene or remove the file",
+            path.display()
+        )
+    })?;
+    let lights = recorded
+        .views
+        .get(view.name())
+        .map_or(&[][..], Vec::as_slice);
+    lights
+        .iter()
+        .map(|l| {
+            let d = DVec3::from_array(l.towards_light);
+            let unit = d.is_finite() && d.length() > 1e-9 && d.y > 0.0;
+            anyhow::ensure!(
+                unit,
+                "{}: views.{}: towards_light {:?} is not a direction above the horizon; give a nonzero [x, y, z] with y > 0 (y up)",
+                path.display(),
+                view.name(),
+                l.towards_light
+            );
+            Ok(d.normalize())
+        })
+        .collect()
 }
 
 /// Reads and checks a line drawing.

@@ -20,7 +20,7 @@ mod stand;
 pub use reread::{read_again_fainter, Reading, FAINTER_THRESHOLDS, READ_AGAIN_AFTER};
 pub use stand::{check_answer_stands, recognize_standing, Standing};
 
-use crate::camera::{Camera, CornerView};
+use crate::camera::CornerView;
 use crate::csg::reconstruction;
 use crate::physics::SettleParams;
 use crate::recognize::{
@@ -152,7 +152,8 @@ pub fn undecided_by_views(
     equally_good_alternative(&scene.blocks, truth_views, tol_px)
 }
 
-/// The observed views of rendered pictures: each view's drawing from `source` and its camera.
+/// The observed views of rendered pictures: each view's drawing from `source`, its camera and
+/// the lights recorded with it.
 /// Returns the views and the milliseconds spent in vision.
 pub fn observe(
     rendered: &[RenderedView],
@@ -169,6 +170,7 @@ pub fn observe(
             Ok(ObservedView {
                 drawing,
                 camera: v.camera,
+                towards_lights: v.towards_lights.clone(),
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -203,14 +205,12 @@ pub fn recognize_rendered_standing(
         return recognize_standing(views, &[], opts);
     };
     let pictures: Vec<&image::GrayImage> = rendered.iter().map(|v| &v.gray).collect();
-    let cameras: Vec<Camera> = rendered.iter().map(|v| v.camera).collect();
     let first = recognize_in_pictures(views, &pictures, opts)?;
-    Ok(answer_of_pictures(first, &pictures, &cameras, vision, opts).0)
+    Ok(answer_of_pictures(first, &pictures, views, vision, opts).0)
 }
 
-/// The answer `blockworld recognize` gives for views read from `pictures` (one per camera of
-/// `cameras`, in the same order) with `vision`, given `first`, the recognizer's answer on
-/// them: read again fainter when it declines for what a missed line causes
+/// The answer `blockworld recognize` gives for the views `read` from `pictures` (one per
+/// view, in the same order) with `vision`, given `first`, the recognizer's answer on them: read again fainter when it declines for what a missed line causes
 /// ([`read_again_fainter`]), then held to standing ([`check_answer_stands`]); with the views
 /// of the fainter reading that answered (`None`: the first reading's stand). The one home of
 /// these two steps, so that `recognize`, `recognize-dataset`, the benches and the gate score
@@ -218,11 +218,11 @@ pub fn recognize_rendered_standing(
 pub fn answer_of_pictures(
     first: Recognition,
     pictures: &[&image::GrayImage],
-    cameras: &[Camera],
+    read: &[ObservedView],
     vision: &VisionOptions,
     opts: &RecognizeOptions,
 ) -> (Standing, Option<Vec<ObservedView>>) {
-    let reading = read_again_fainter(first, pictures, cameras, vision, opts);
+    let reading = read_again_fainter(first, pictures, read, vision, opts);
     let standing = check_answer_stands(reading.recognition, &SettleParams::default());
     (standing, reading.views)
 }

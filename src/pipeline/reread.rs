@@ -12,7 +12,6 @@
 //! Lowering the threshold of every reading instead loses more answers than it gains (the
 //! faint lines of shading then decline scenes the first reading answers).
 
-use crate::camera::Camera;
 use crate::recognize::{
     decline_kind, recognize_in_pictures, ObservedView, Recognition, RecognizeOptions,
 };
@@ -56,8 +55,8 @@ pub struct Reading {
     pub views: Option<Vec<ObservedView>>,
 }
 
-/// `first`, the answer of the views read from `pictures` (one per camera of `cameras`, in the
-/// same order) with `vision`, or, when it declines for a reason in [`READ_AGAIN_AFTER`], the
+/// `first`, the answer of the views `read` from `pictures` (one per view, in the same order)
+/// with `vision`, or, when it declines for a reason in [`READ_AGAIN_AFTER`], the
 /// first `ok` answer of the pictures read again at each of [`FAINTER_THRESHOLDS`] below
 /// `vision`'s threshold, then at the faintest along the block directions when `vision` does
 /// not already read so (module doc). A fainter reading the front end refuses (too many edge
@@ -65,7 +64,7 @@ pub struct Reading {
 pub fn read_again_fainter(
     first: Recognition,
     pictures: &[&GrayImage],
-    cameras: &[Camera],
+    read: &[ObservedView],
     vision: &VisionOptions,
     opts: &RecognizeOptions,
 ) -> Reading {
@@ -73,7 +72,7 @@ pub fn read_again_fainter(
     let reason = first.reason.as_deref().unwrap_or_default();
     let again = first.status != ReconStatus::Ok
         && READ_AGAIN_AFTER.contains(&decline_kind(reason))
-        && pictures.len() == cameras.len()
+        && pictures.len() == read.len()
         && !pictures.is_empty();
     if again {
         let strict = RecognizeOptions {
@@ -89,7 +88,7 @@ pub fn read_again_fainter(
                 Some(OrientedOptions::default()),
             )));
         for (t, oriented) in readings {
-            let Some(views) = read_at(pictures, cameras, vision, t, oriented) else {
+            let Some(views) = read_at(pictures, read, vision, t, oriented) else {
                 break;
             };
             let opts = RecognizeOptions {
@@ -118,11 +117,12 @@ pub fn read_again_fainter(
 }
 
 /// The views of `pictures` read by the front end at edge threshold `t` (hysteresis, if any,
-/// kept below it), with the steps along the block directions when `oriented` is set; `None`
-/// when the front end refuses a picture.
+/// kept below it), with the steps along the block directions when `oriented` is set, each
+/// with the camera and lights of the view of `read` it replaces; `None` when the front end
+/// refuses a picture.
 fn read_at(
     pictures: &[&GrayImage],
-    cameras: &[Camera],
+    read: &[ObservedView],
     vision: &VisionOptions,
     t: u16,
     oriented: Option<OrientedOptions>,
@@ -133,12 +133,11 @@ fn read_at(
     o.edges.weak_threshold = o.edges.weak_threshold.min(t);
     pictures
         .iter()
-        .zip(cameras)
-        .map(|(p, c)| {
-            detect_line_drawing(p, c, &o).ok().map(|d| ObservedView {
-                drawing: d.drawing,
-                camera: *c,
-            })
+        .zip(read)
+        .map(|(p, v)| {
+            detect_line_drawing(p, &v.camera, &o)
+                .ok()
+                .map(|d| v.with_drawing(d.drawing))
         })
         .collect()
 }
@@ -160,14 +159,13 @@ mod tests {
             .map(|v| inked_picture_in(&v.camera, &v.drawing, [ink, 150]))
             .collect();
         let refs: Vec<&GrayImage> = pictures.iter().collect();
-        let cameras: Vec<Camera> = exact.iter().map(|v| v.camera).collect();
         let vision = VisionOptions::default();
         let opts = RecognizeOptions::default();
-        let views = read_at(&refs, &cameras, &vision, vision.edges.threshold, None).unwrap();
+        let views = read_at(&refs, &exact, &vision, vision.edges.threshold, None).unwrap();
         let first = recognize_in_pictures(&views, &refs, &opts).unwrap();
         (
             truth,
-            read_again_fainter(first, &refs, &cameras, &vision, &opts),
+            read_again_fainter(first, &refs, &views, &vision, &opts),
         )
     }
 

@@ -4,15 +4,42 @@
 use super::{Layer, MatchTolerances, ViewCheck};
 use crate::camera::Camera;
 use crate::drawing::LineDrawing;
+use crate::geom::DVec3;
 use crate::scene::{Block, ReconStatus, ViewEvidence};
 
-/// One observed view: its line drawing (ground truth or vision) and its camera.
+/// One observed view: its line drawing (ground truth or vision), its camera, and the lights
+/// known to have lit its picture.
 #[derive(Debug, Clone)]
 pub struct ObservedView {
     /// The line drawing in picture px.
     pub drawing: LineDrawing,
     /// The camera that took it.
     pub camera: Camera,
+    /// Unit vectors from the scene towards each light that lit the picture (world frame, y
+    /// up); empty when the lighting is unknown. With the pictures, step 6 tells the edges of
+    /// the shadows an answer casts under them from block edges (docs/recognizer-pictures.md
+    /// "Known lights").
+    pub towards_lights: Vec<DVec3>,
+}
+
+impl ObservedView {
+    /// `drawing` seen by `camera` under unknown lights.
+    pub fn new(drawing: LineDrawing, camera: Camera) -> ObservedView {
+        ObservedView {
+            drawing,
+            camera,
+            towards_lights: Vec::new(),
+        }
+    }
+
+    /// This view with its drawing replaced by `drawing` (the same camera and lights).
+    pub fn with_drawing(&self, drawing: LineDrawing) -> ObservedView {
+        ObservedView {
+            drawing,
+            camera: self.camera,
+            towards_lights: self.towards_lights.clone(),
+        }
+    }
 }
 
 /// Options of [`recognize`]: tolerances and search limits, with the unit in each name.

@@ -351,7 +351,7 @@ mod tests {
                 let camera =
                     Camera::frame(&truth[0].world_vertices(), v, &CameraOptions::default());
                 let drawing = super::super::draw_hypothesis(&truth, &camera);
-                ObservedView { drawing, camera }
+                ObservedView::new(drawing, camera)
             })
             .collect();
         let pool = vec![candidate("b15", 7.5, 2, 2), candidate("b15", 22.5, 2, 2)];

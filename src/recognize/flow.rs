@@ -18,6 +18,7 @@ use super::placement::{
 };
 use super::repair::{cracks_resolved, repaired_in_pictures};
 use super::select::select_vertices;
+use super::shadow::without_shadow_lines;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
 use super::verify::{blocks_drawn_in_excess, ViewCheck, ViewMismatch};
 use super::SAME_PLACE_TOL_MM;
@@ -139,10 +140,7 @@ pub(super) fn normalize_views(views: &[ObservedView]) -> Vec<ObservedView> {
         .map(|v| {
             let mut drawing = v.drawing.clone();
             drawing.finalize();
-            ObservedView {
-                drawing,
-                camera: v.camera,
-            }
+            v.with_drawing(drawing)
         })
         .collect()
 }
@@ -233,7 +231,9 @@ pub(super) fn find_hypothesis(
 }
 
 /// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check
-/// ([`pictures_mismatch`]) unless the drawings alone explain every view.
+/// ([`pictures_mismatch`]) unless the drawings alone explain every view, the lines along the
+/// edges of the shadows `h` casts under a view's known lights left out
+/// ([`without_shadow_lines`]).
 fn checks_in_pictures(
     h: &Hypothesis,
     views: &[ObservedView],
@@ -244,10 +244,11 @@ fn checks_in_pictures(
         return h.checks.clone();
     }
     let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
-    pictures_mismatch(&h.drawn, &observed, pictures, tol_px)
-        .iter()
-        .map(ViewMismatch::counts)
-        .collect()
+    let mut mismatches = pictures_mismatch(&h.drawn, &observed, pictures, tol_px);
+    for (m, v) in mismatches.iter_mut().zip(views) {
+        without_shadow_lines(m, v, &h.blocks, tol_px);
+    }
+    mismatches.iter().map(ViewMismatch::counts).collect()
 }
 
 /// `h` with its groups of touching blocks placed by every view at once

@@ -37,6 +37,7 @@ mod placement;
 mod repair;
 mod select;
 mod set_aside;
+mod shadow;
 mod trapezoid;
 mod verify;
 
@@ -227,9 +228,35 @@ pub(crate) fn views_of(blocks: &[crate::scene::Block], which: &[CornerView]) -> 
         .map(|&v| {
             let camera = Camera::frame(&pts, v, &CameraOptions::default());
             let drawing = draw_hypothesis(blocks, &camera);
-            ObservedView { drawing, camera }
+            ObservedView::new(drawing, camera)
         })
         .collect()
+}
+
+/// `view` with a line from `from` to `to` added to its drawing: a line the unit tests'
+/// pictures show and no block draws.
+#[cfg(test)]
+pub(crate) fn with_line(
+    view: &ObservedView,
+    from: crate::geom::DVec2,
+    to: crate::geom::DVec2,
+) -> ObservedView {
+    let mut drawing = view.drawing.clone();
+    drawing.kinds.clear();
+    drawing.edges.clear();
+    let at = |d: &mut crate::drawing::LineDrawing, q: crate::geom::DVec2| {
+        d.points
+            .iter()
+            .position(|p| p.distance(q) < 0.5)
+            .unwrap_or_else(|| {
+                d.points.push(q);
+                d.points.len() - 1
+            })
+    };
+    let (a, b) = (at(&mut drawing, from), at(&mut drawing, to));
+    drawing.lines.push([a, b]);
+    drawing.finalize();
+    view.with_drawing(drawing)
 }
 
 /// A line-art picture of `drawing` through `camera`: ink (gray 40) within 0.8 px of every

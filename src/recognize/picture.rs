@@ -605,10 +605,7 @@ mod tests {
         let grays: Vec<GrayImage> = views.iter().map(|v| inked(&v.camera, &v.drawing)).collect();
         let blind: Vec<ObservedView> = views
             .iter()
-            .map(|v| ObservedView {
-                drawing: without_cracks(&v.drawing),
-                camera: v.camera,
-            })
+            .map(|v| v.with_drawing(without_cracks(&v.drawing)))
             .collect();
         let opts = RecognizeOptions::default();
         let plain = recognize(&blind, &opts).unwrap();

@@ -26,6 +26,7 @@ use super::picture::{
     lines_at, pictures_mismatch, px_per_mm, without_lines, ROUNDING_ALLOWANCE_MM,
 };
 use super::placement::{misplaced_in_a_view, overlap_after_shift, EXACT_OVERLAP};
+use super::shadow::shadow_lines;
 use super::verify::{draw_hypothesis, ViewCheck, ViewMismatch};
 use super::{Camera, SAME_PLACE_TOL_MM};
 use crate::camera::Projector;
@@ -38,8 +39,9 @@ use crate::scene::{same_blocks, Block, ReconStatus, ViewEvidence};
 /// orthographic views; perspective ones tilt them by a few degrees at the picture's edge).
 const UPRIGHT_WITHIN_DEG: f64 = 10.0;
 /// Rounds of [`with_shading_lines_set_aside`]: the declined answer's blocks, then those of
-/// the views read without the lines they leave unexplained.
-const SET_ASIDE_ROUNDS: usize = 2;
+/// the views read without the lines they leave unexplained, twice (the shadows a closer
+/// answer casts set aside more of the next reading's lines).
+const SET_ASIDE_ROUNDS: usize = 3;
 /// Lines within this angle of each other are parallel.
 const PARALLEL_WITHIN_DEG: f64 = 5.0;
 /// Observed lines are read every this many px against the answer's drawing.
@@ -91,8 +93,10 @@ pub(super) fn with_one_view_set_aside(
 /// The answer of the views with the lines no block draws left out of every view: the lines
 /// along no block axis (and the unclassified straight ones), and, against the declined
 /// answer's blocks `hypothesis`, the observed lines it does not explain that no block could
-/// draw ([`could_be_block_edge`]); then recognized again, at most twice, and taken only when
-/// no view read whole contradicts it ([`views_read`]); `None` otherwise.
+/// draw ([`could_be_block_edge`]) or that lie along the edge of a shadow it casts under the
+/// view's known lights ([`shadow_lines`]); then recognized again, at most
+/// [`SET_ASIDE_ROUNDS`] times, and taken only when no view read whole contradicts it
+/// ([`views_read`]); `None` otherwise.
 pub(super) fn with_shading_lines_set_aside(
     views: &[ObservedView],
     pictures: &[ViewPicture],
@@ -160,6 +164,10 @@ fn without_shading_lines(
         .map(|(k, v)| {
             let mut off = straight_lines_in_no_block_direction(v, opts);
             if let Some(m) = &mismatches {
+                let shadow = shadow_lines(v, hypothesis, opts.tol_px);
+                let cast = m[k].unexplained_lines.iter().filter(|l| shadow.contains(l));
+                let cast: Vec<usize> = cast.filter(|l| !off.contains(l)).copied().collect();
+                off.extend(cast);
                 let outline = Outline::of(hypothesis, &v.camera);
                 let shading: Vec<usize> = m[k]
                     .unexplained_lines
@@ -173,10 +181,7 @@ fn without_shading_lines(
                 off.extend(shading);
             }
             any |= !off.is_empty();
-            ObservedView {
-                drawing: without_lines(&v.drawing, &off),
-                camera: v.camera,
-            }
+            v.with_drawing(without_lines(&v.drawing, &off))
         })
         .collect();
     any.then_some(kept)
@@ -184,8 +189,9 @@ fn without_shading_lines(
 
 /// Each view read through its picture against `blocks`: whether it contradicts them (an
 /// answer's point or line not seen and not weak in the picture, or an observed line along a
-/// block axis that the answer does not explain and a block could draw,
-/// [`could_be_block_edge`]), and its counts.
+/// block axis that the answer does not explain, a block could draw
+/// ([`could_be_block_edge`]) and no shadow of the answer's blocks under the view's known
+/// lights casts ([`shadow_lines`])), and its counts.
 fn views_read(
     blocks: &[Block],
     views: &[ObservedView],
@@ -203,13 +209,20 @@ fn views_read(
         let v = &views[k];
         let off = lines_off_the_axes(&v.drawing, &v.camera, tol);
         let outline = Outline::of(blocks, &v.camera);
+        let shadow = shadow_lines(v, blocks, opts.tol_px);
+        let unexplained: Vec<usize> = m
+            .unexplained_lines
+            .iter()
+            .copied()
+            .filter(|l| !shadow.contains(l))
+            .collect();
         let edge_like = |&l: &usize| {
             !off.contains(&l) && could_be_block_edge(v, l, &drawn[k], &outline, opts.tol_px)
         };
         !m.extra_lines.is_empty()
             || !m.extra_points.is_empty()
-            || m.unexplained_lines.iter().any(edge_like)
-            || !every_piece_hangs_off(&v.drawing, &m.unexplained_lines, &drawn[k], opts.tol_px)
+            || unexplained.iter().any(edge_like)
+            || !every_piece_hangs_off(&v.drawing, &unexplained, &drawn[k], opts.tol_px)
     };
     (0..views.len())
         .map(|k| (contradicts(k, &mismatches[k]), mismatches[k].counts()))
@@ -388,34 +401,11 @@ fn without<T: Clone>(items: &[T], k: usize) -> Vec<T> {
 mod tests {
     use super::*;
     use crate::geom::DVec3;
-    use crate::recognize::{recognize_in_pictures, views_of, CornerView, Recognition};
+    use crate::recognize::{recognize_in_pictures, views_of, with_line, CornerView, Recognition};
     use image::GrayImage;
 
     fn inked(view: &ObservedView) -> GrayImage {
         crate::recognize::inked_picture(&view.camera, &view.drawing)
-    }
-
-    /// `view` with a line from `from` to `to` added to its drawing.
-    fn with_line(view: &ObservedView, from: DVec2, to: DVec2) -> ObservedView {
-        let mut drawing = view.drawing.clone();
-        drawing.kinds.clear();
-        drawing.edges.clear();
-        let at = |d: &mut LineDrawing, q: DVec2| {
-            d.points
-                .iter()
-                .position(|p| p.distance(q) < 0.5)
-                .unwrap_or_else(|| {
-                    d.points.push(q);
-                    d.points.len() - 1
-                })
-        };
-        let (a, b) = (at(&mut drawing, from), at(&mut drawing, to));
-        drawing.lines.push([a, b]);
-        drawing.finalize();
-        ObservedView {
-            drawing,
-            camera: view.camera,
-        }
     }
 
     fn recognized(views: &[ObservedView]) -> Recognition {

@@ -36,10 +36,7 @@ fn a_perspective_view_pair_is_recognized_too() {
         .iter()
         .map(|&v| {
             let camera = Camera::frame(&pts, v, &opts);
-            ObservedView {
-                drawing: draw_hypothesis(&truth, &camera),
-                camera,
-            }
+            ObservedView::new(draw_hypothesis(&truth, &camera), camera)
         })
         .collect();
     let r = recognize(&views, &RecognizeOptions::default()).unwrap();

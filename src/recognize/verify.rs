@@ -435,7 +435,7 @@ mod tests {
             .map(|&v| {
                 let camera = cam(&blocks, v);
                 let drawing = draw_hypothesis(&blocks, &camera);
-                ObservedView { drawing, camera }
+                ObservedView::new(drawing, camera)
             })
             .collect();
         for check in check_hypothesis(&blocks, &views, 1.0) {

@@ -179,6 +179,10 @@ pub struct RenderedView {
     pub ids: Gray16Image,
     /// The exact visible line drawing (`lines_<view>.json`).
     pub lines: LineDrawing,
+    /// Unit vectors from the scene towards each light that lit the picture (world frame), as
+    /// the look records them: the varied look's lights in this view (`look.json`,
+    /// docs/varied-look.md "look.json"); empty for looks that record none.
+    pub towards_lights: Vec<DVec3>,
 }
 
 /// Rendering errors; each says what to do.
@@ -473,6 +477,7 @@ fn rendered_view(
         depth,
         ids,
         lines: LineDrawing::default(),
+        towards_lights: Vec::new(),
     })
 }
 

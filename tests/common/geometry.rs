@@ -18,7 +18,7 @@ pub fn exact_views(scene: &Scene, views: &[CornerView], opts: &CameraOptions) ->
         .map(|&v| {
             let camera = frame(scene, v, opts);
             let drawing = visible_line_drawing(scene, &camera);
-            ObservedView { drawing, camera }
+            ObservedView::new(drawing, camera)
         })
         .collect()
 }

@@ -107,10 +107,7 @@ fn recognizer_time_ms(scene: &Scene, _drawing: &LineDrawing) -> Option<(f64, Str
         .iter()
         .map(|&v| {
             let camera = Camera::frame(&points, v, &CameraOptions::default());
-            ObservedView {
-                drawing: visible_line_drawing(scene, &camera),
-                camera,
-            }
+            ObservedView::new(visible_line_drawing(scene, &camera), camera)
         })
         .collect();
     let mut best = f64::INFINITY;

@@ -1,19 +1,21 @@
 //! `blockworld recognize DIR -o RECON.json [--views ne,se,sw,nw] [--from-truth]`: the modified
 //! Kanade recognizer (thesis Chapters IV-V) on a directory as `render` writes it, per view
-//! `view_<v>.png` + `camera_<v>.json` (or the exact `lines_<v>.json` with `--from-truth`).
+//! `view_<v>.png` + `camera_<v>.json` (or the exact `lines_<v>.json` with `--from-truth`), and
+//! the lights a `look.json` beside them records.
 //! An answer must stand (`pipeline::recognize_standing`: settled with rapier, declined when a
 //! block would move). Writes a reconstruction file: the scene-file blocks plus `status`, `reason` and the CSG tree
 //! (Figure 4.6).
 
-use crate::cli::files::{read_camera, read_drawing, read_picture};
+use crate::cli::files::{read_camera, read_drawing, read_picture, read_recorded_lights};
 use crate::cli::progress::with_progress;
 use anyhow::Context;
-use blockworld::camera::{Camera, CornerView};
+use blockworld::camera::CornerView;
 use blockworld::csg::reconstruction;
 use blockworld::pipeline::answer_of_pictures;
 use blockworld::recognize::{
     recognize_with_progress, ObservedView, Recognition, RecognizeOptions, SearchProgress,
 };
+use blockworld::render::photo::varied::LOOK_FILE;
 use blockworld::scene::reconstruction_to_json;
 use blockworld::vision::{
     detect_line_drawing, detect_line_drawing_with_progress, VisionOptions, VISION_STEPS,
@@ -23,7 +25,10 @@ use std::path::{Path, PathBuf};
 /// Options of `blockworld recognize`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Directory with `camera_<v>.json` and `view_<v>.png` (or `lines_<v>.json`) per view.
+    /// Directory with `camera_<v>.json` and `view_<v>.png` (or `lines_<v>.json`) per view; a
+    /// `look.json` beside them gives the lights that lit each view (its
+    /// `views.<v>[].towards_light`), so that the edges of the shadows an answer casts are
+    /// told from block edges (docs/recognizer-pictures.md "Known lights").
     pub dir: PathBuf,
     /// The reconstruction file to write.
     #[arg(short, long)]
@@ -107,7 +112,7 @@ pub(super) fn read_view(
     }
     if from_truth {
         let drawing = read_drawing(&dir.join(format!("lines_{v}.json")))?;
-        return Ok((ObservedView { drawing, camera }, None));
+        return Ok((ObservedView::new(drawing, camera), None));
     }
     let picture = dir.join(format!("view_{v}.png"));
     let gray = read_picture(&picture)?;
@@ -121,7 +126,7 @@ pub(super) fn read_view(
     }
     .with_context(|| format!("{} (camera {})", picture.display(), camera_path.display()))?
     .drawing;
-    Ok((ObservedView { drawing, camera }, Some(gray)))
+    Ok((ObservedView::new(drawing, camera), Some(gray)))
 }
 
 /// Refuses a missing input folder, and an output that would overwrite one of the inputs of
@@ -134,6 +139,7 @@ fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
             ["camera_{v}.json", "lines_{v}.json", "view_{v}.png"]
                 .map(|f| args.dir.join(f.replace("{v}", v)))
         })
+        .chain([args.dir.join(LOOK_FILE)])
         .collect();
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     if !args.dir.is_dir() {
@@ -143,6 +149,22 @@ fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
         );
     }
     crate::cli::files::check_output(&args.output, &inputs)
+}
+
+/// `observed`, the views of the folder `dir`, with the lights its `look.json` records for
+/// each (`files::read_recorded_lights`; docs/recognizer-pictures.md "Known lights"); unchanged
+/// when the folder has none.
+fn with_recorded_lights(
+    dir: &Path,
+    mut observed: Vec<ObservedView>,
+) -> anyhow::Result<Vec<ObservedView>> {
+    let path = dir.join(LOOK_FILE);
+    if path.exists() {
+        for v in &mut observed {
+            v.towards_lights = read_recorded_lights(&path, v.camera.view)?;
+        }
+    }
+    Ok(observed)
 }
 
 /// Reads `views` of the folder `dir` ([`read_view`]) and recognizes them (the search's progress
@@ -162,15 +184,15 @@ pub(super) fn recognize_folder(
         .collect::<anyhow::Result<Vec<_>>>()?
         .into_iter()
         .unzip();
+    let observed = with_recorded_lights(dir, observed)?;
     let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
     let quiet = |_: SearchProgress| {};
     let shown_progress = search_progress();
     let progress: &dyn Fn(SearchProgress) = if shown { &shown_progress } else { &quiet };
     let recognition = recognize_with_progress(&observed, &pictures, opts, progress)
         .with_context(|| format!("recognizing {}", dir.display()))?;
-    let cameras: Vec<Camera> = observed.iter().map(|v| v.camera).collect();
     let vision = VisionOptions::default();
-    let (standing, read) = answer_of_pictures(recognition, &pictures, &cameras, &vision, opts);
+    let (standing, read) = answer_of_pictures(recognition, &pictures, &observed, &vision, opts);
     Ok((read.unwrap_or(observed), standing.recognition))
 }
 

@@ -26,7 +26,7 @@ pub use formats::{
 pub use split::{split_of, Split};
 
 use crate::drawing::{LineDrawing, LineKind};
-use crate::geom::DVec2;
+use crate::geom::{clip_segment_to_box, DVec2};
 use std::collections::HashMap;
 
 /// Junction coordinates are rounded to 1 / this many px (1e-4 px), so junctions that coincide
@@ -137,7 +137,7 @@ pub fn wireframe_from_drawing(
         }
         let p = raster_from_picture(drawing.points[a], size.y);
         let q = raster_from_picture(drawing.points[b], size.y);
-        let Some((t0, t1)) = clip_segment(p, q, size) else {
+        let Some((t0, t1)) = clip_segment_to_box(p, q, DVec2::ZERO, size) else {
             continue;
         };
         let (p0, p1) = (p + (q - p) * t0, p + (q - p) * t1);
@@ -172,34 +172,6 @@ pub fn wireframe_from_drawing(
 /// Both keep pixel centres at +0.5, so the flip is exact: `y' = H - y`.
 pub fn raster_from_picture(p: DVec2, height_px: f64) -> DVec2 {
     DVec2::new(p.x, height_px - p.y)
-}
-
-/// Liang–Barsky clipping of segment `p`–`q` to the box `[0, size.x] x [0, size.y]`: the
-/// parameter interval `[t0, t1]` inside it, or `None` when the segment misses the box.
-fn clip_segment(p: DVec2, q: DVec2, size: DVec2) -> Option<(f64, f64)> {
-    let d = q - p;
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let bounds = [
-        (-d.x, p.x),
-        (d.x, size.x - p.x),
-        (-d.y, p.y),
-        (d.y, size.y - p.y),
-    ];
-    for (den, num) in bounds {
-        if den == 0.0 {
-            if num < 0.0 {
-                return None;
-            }
-            continue;
-        }
-        let t = num / den;
-        if den < 0.0 {
-            t0 = t0.max(t);
-        } else {
-            t1 = t1.min(t);
-        }
-    }
-    (t0 < t1).then_some((t0, t1))
 }
 
 /// The index of the junction at `xy` (rounded), adding it when new; `point` is the drawing

@@ -318,7 +318,9 @@ impl Renderer {
         let truth = self.draw_sharp(scene, &written, 1)?;
         let seed = noise_seed(opts.seed, view) ^ 0x005E_450B;
         let gray = drawn.photo.sensor.expose(&radiance, seed);
-        Ok(written_view(written, gray, truth, &drawn, view))
+        let mut rendered = written_view(written, gray, truth, &drawn, view);
+        rendered.towards_lights = draw.towards_lights(view);
+        Ok(rendered)
     }
 
     /// The line-art draw of the sharp solids seen by `camera`: gray, depth and ids.
@@ -391,6 +393,7 @@ fn written_view(
         depth: truth.1,
         ids: truth.2,
         lines: LineDrawing::default(),
+        towards_lights: Vec::new(),
     }
 }
 

@@ -370,6 +370,15 @@ impl LookDraw {
             .collect()
     }
 
+    /// The unit vector towards each light as `view` sees it, in `lights` order: what
+    /// `look.json` records under `views` (the recognizer's known lights).
+    pub fn towards_lights(&self, view: CornerView) -> Vec<DVec3> {
+        self.lights
+            .iter()
+            .map(|l| DVec3::from_array(l.in_view(view).towards_light))
+            .collect()
+    }
+
     /// The render mesh's drawn edge profile and floor.
     pub fn mesh_look(&self) -> MeshLook {
         MeshLook {

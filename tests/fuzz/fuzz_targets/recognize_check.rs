@@ -59,7 +59,7 @@ pub fn recognizer_fuzz_views(data: &[u8]) -> Vec<blockworld::recognize::Observed
         if n == 255 {
             camera.size_px = [0, 0];
         }
-        views.push(ObservedView { drawing, camera });
+        views.push(ObservedView::new(drawing, camera));
     }
     views
 }
