@@ -46,11 +46,12 @@ pub fn read_camera(path: &Path) -> anyhow::Result<Camera> {
     parse_camera_json(&text).with_context(|| format!("{}", path.display()))
 }
 
-/// The lights a scene folder's `look.json` records for one view (docs/varied-look.md
-/// "look.json": `views.<view>[].towards_light`, the unit vector towards each light); only
-/// that part of the file is read, so a hand-made `{"views": {"ne": [{"towards_light": [x, y,
-/// z]}]}}` serves as well. A view the file does not name has no known lights.
-pub fn read_recorded_lights(path: &Path, view: CornerView) -> anyhow::Result<Vec<DVec3>> {
+/// The lights a scene folder's `look.json` records for each of `views`, in order
+/// (docs/varied-look.md "look.json": `views.<view>[].towards_light`, the unit vector towards
+/// each light); only that part of the file is read, so a hand-made `{"views": {"ne":
+/// [{"towards_light": [x, y, z]}]}}` serves as well. A view the file does not name has no
+/// known lights.
+pub fn read_recorded_lights(path: &Path, views: &[CornerView]) -> anyhow::Result<Vec<Vec<DVec3>>> {
     #[derive(serde::Deserialize)]
     struct Recorded {
         views: std::collections::BTreeMap<String, Vec<RecordedLight>>,
@@ -67,25 +68,34 @@ pub fn read_recorded_lights(path: &Path, view: CornerView) -> anyhow::Result<Vec
             path.display()
         )
     })?;
-    let lights = recorded
-        .views
-        .get(view.name())
-        .map_or(&[][..], Vec::as_slice);
-    lights
+    views
         .iter()
-        .map(|l| {
-            let d = DVec3::from_array(l.towards_light);
-            let unit = d.is_finite() && d.length() > 1e-9 && d.y > 0.0;
-            anyhow::ensure!(
-                unit,
-                "{}: views.{}: towards_light {:?} is not a direction above the horizon; give a nonzero [x, y, z] with y > 0 (y up)",
-                path.display(),
-                view.name(),
-                l.towards_light
-            );
-            Ok(d.normalize())
+        .map(|&view| {
+            let lights = recorded
+                .views
+                .get(view.name())
+                .map_or(&[][..], Vec::as_slice);
+            lights
+                .iter()
+                .map(|l| checked_light(path, view, l.towards_light))
+                .collect()
         })
         .collect()
+}
+
+/// `towards_light`, a light `path` records for `view`, as a unit vector; an error naming the
+/// file unless it points above the horizon.
+fn checked_light(path: &Path, view: CornerView, towards_light: [f64; 3]) -> anyhow::Result<DVec3> {
+    let d = DVec3::from_array(towards_light);
+    let unit = d.is_finite() && d.length() > 1e-9 && d.y > 0.0;
+    anyhow::ensure!(
+        unit,
+        "{}: views.{}: towards_light {:?} is not a direction above the horizon; give a nonzero [x, y, z] with y > 0 (y up)",
+        path.display(),
+        view.name(),
+        towards_light
+    );
+    Ok(d.normalize())
 }
 
 /// Reads and checks a line drawing.

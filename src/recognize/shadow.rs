@@ -28,9 +28,9 @@ const GRAZING_COS: f64 = 0.05;
 const ON_EDGE_SHARE: f64 = 0.9;
 /// A predicted edge runs an observed line's way within this angle, degrees.
 const ALONG_WITHIN_DEG: f64 = 8.0;
-/// A sample is near a predicted edge within this many times the point tolerance (the
-/// shadow's edge is as sharp as the light is small; the varied look's widest penumbra at
-/// bench distances is about this wide).
+/// A sample is near a predicted edge within this many times the point tolerance: the front
+/// end reads a soft shadow's edge somewhere in its penumbra, off the sharp edge predicted
+/// (the figures of docs/recognizer-pictures.md "Known lights" are measured with it).
 const NEAR_TOL_FACTOR: f64 = 1.5;
 /// A hull edge this close to a caster's own cross-section, mm, is the caster's foot on the
 /// receiving plane, not a shadow's edge.

@@ -160,8 +160,10 @@ fn with_recorded_lights(
 ) -> anyhow::Result<Vec<ObservedView>> {
     let path = dir.join(LOOK_FILE);
     if path.exists() {
-        for v in &mut observed {
-            v.towards_lights = read_recorded_lights(&path, v.camera.view)?;
+        let views: Vec<CornerView> = observed.iter().map(|v| v.camera.view).collect();
+        let lights = read_recorded_lights(&path, &views)?;
+        for (v, l) in observed.iter_mut().zip(lights) {
+            v.towards_lights = l;
         }
     }
     Ok(observed)
