@@ -21,7 +21,8 @@ struct Photo {
     // filter tap compares against the receiver's own depth there, not its centre's.
     light_clip_normal: mat4x4<f32>,
     // x: smallest penumbra radius, mm (even contact shadows are soft); y: weight of the
-    // specular highlight (0: matte); z: its Blinn-Phong exponent; w: unused.
+    // specular highlight (0: matte); z: its Blinn-Phong exponent; w: the floor's bounce
+    // (KeyLight::floor_bounce; 0: the ambient alike on every face).
     soft_min: vec4<f32>,
     // The eye: position (w = 1, perspective) or unit direction towards it (w = 0,
     // orthographic); read only for the highlight.
@@ -154,7 +155,7 @@ fn fs_photo(in: VertexOut) -> @location(0) vec4<f32> {
             gloss = highlight(in.world_mm, in.normal) * share;
         }
     }
-    let radiance = in.albedo * (photo.params.x + direct) + gloss;
+    let radiance = in.albedo * (ambient_in(in.normal) + direct) + gloss;
     return vec4<f32>(radiance, 0.0, 0.0, 1.0);
 }
 
@@ -169,5 +170,16 @@ fn fs_photo_unshadowed(in: VertexOut) -> @location(0) vec4<f32> {
     if (photo.soft_min.y > 0.0 && in.albedo > 0.0 && cos_light > 0.0) {
         gloss = highlight(in.world_mm, in.normal);
     }
-    return vec4<f32>(in.albedo * (photo.params.x + direct) + gloss, 0.0, 0.0, 1.0);
+    return vec4<f32>(in.albedo * (ambient_in(in.normal) + direct) + gloss, 0.0, 0.0, 1.0);
+}
+
+// The light a face with unit normal n receives besides the direct light, per unit albedo
+// (src/render/photo/mesh/mod.rs ambient_radiance): the ambient alike on every face, or, with
+// a floor bounce, the sky's share of it above the face's horizon plus the lit floor's bounce
+// below it.
+fn ambient_in(n: vec3<f32>) -> f32 {
+    if (photo.soft_min.w > 0.0) {
+        return photo.params.x * 0.5 * (1.0 + n.y) + photo.soft_min.w * (1.0 - n.y);
+    }
+    return photo.params.x;
 }

@@ -224,6 +224,7 @@ mod tests {
             ids,
             lines: LineDrawing::default(),
             towards_lights: Vec::new(),
+            edge_radius_mm: 0.0,
         }
     }
 

@@ -317,9 +317,10 @@ fn rejected_long_numbers_are_echoed_short() {
     assert!(!Path::new("unused").exists());
 }
 
-/// `recognize` reads the lights of a `look.json` beside the views: one that is not a look
-/// file, or that gives a light below the horizon, exits 2 naming the file and writes nothing;
-/// a hand-made one with only `views.<v>[].towards_light` is read, and the cube answered.
+/// `recognize` reads the lights and the edge radius of a `look.json` beside the views: one
+/// that is not a look file, gives a light below the horizon or a radius below 0 or beyond a
+/// block's rounding, exits 2 naming the file and writes nothing; a hand-made one with only
+/// `edge_radius_mm` and `views.<v>[].towards_light` is read, and the cube answered.
 #[test]
 fn recognize_names_a_bad_look_json_and_reads_a_hand_made_one() {
     let dir = tempfile::tempdir().unwrap();
@@ -342,7 +343,10 @@ fn recognize_names_a_bad_look_json_and_reads_a_hand_made_one() {
     };
     let look = scene.join("look.json");
     for (text, says) in [
-        (r#"{"seed": 3}"#, "not a look.json"),
+        (r#"{"views": 3}"#, "not a look.json"),
+        (r#"{"edge_radius_mm": "round"}"#, "not a look.json"),
+        (r#"{"edge_radius_mm": -0.1}"#, "is not a radius from 0 to"),
+        (r#"{"edge_radius_mm": 40}"#, "is not a radius from 0 to"),
         (
             r#"{"views": {"ne": [{"towards_light": [1, -1, 0]}]}}"#,
             "not a direction above the horizon",
@@ -353,7 +357,7 @@ fn recognize_names_a_bad_look_json_and_reads_a_hand_made_one() {
         assert!(err.contains("look.json") && err.contains(says), "{err}");
         assert!(!out.exists());
     }
-    let lit = r#"{"views": {"ne": [{"towards_light": [0.5, 1, 0.2]}], "sw": []}}"#;
+    let lit = r#"{"edge_radius_mm": 0.05, "views": {"ne": [{"towards_light": [0.5, 1, 0.2]}], "sw": []}}"#;
     std::fs::write(&look, lit).unwrap();
     let stdout = common::ok(run());
     assert!(stdout.contains("1 blocks in 1 layers"), "{stdout}");

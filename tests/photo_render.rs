@@ -10,6 +10,7 @@ mod common;
 
 use blockworld::camera::CornerView;
 use blockworld::geom::DVec3;
+use blockworld::render::photo::varied::LookDraw;
 use blockworld::render::photo::{sensor, PhotoParts, PhotoSetup};
 use blockworld::render::{Look, RenderOptions, RenderedView};
 use blockworld::scene::{read_scene, Block, Scene};
@@ -256,4 +257,66 @@ fn bench_render_photo_parts_prints_a_row_per_size_and_refuses_photo_only_beside_
     }
     let o = run(&["--photo-parts", "--photo-only"]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// The varied look lights a face turned from every light by the floor's bounce
+/// (`KeyLight::floor_bounce`, docs/varied-look.md "What is drawn"): a cube's shaded side is
+/// brighter over a light floor than over a dark one, by the block's albedo times the
+/// difference of the two floors' bounces, while its top, which sees only the sky, is the same.
+#[test]
+fn a_shaded_side_is_lit_by_the_floor_beneath_and_the_top_is_not() {
+    let Some(r) = renderer() else { return };
+    let cube = Scene::new("c", vec![Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)]);
+    let view = CornerView::Ne;
+    // NE camera at +x, -z: the visible sides are +x and -z; take a draw with one light that
+    // one of them is turned from.
+    let (mut draw, side) = (0..200)
+        .find_map(|seed| {
+            let d = LookDraw::draw(seed, 1, 35.264);
+            let l = DVec3::from_array(d.lights[0].in_view(view).towards_light);
+            let side = [DVec3::X, -DVec3::Z]
+                .into_iter()
+                .find(|n| n.dot(l) < -0.1)?;
+            (d.lights.len() == 1).then_some((d, side))
+        })
+        .expect("a one-light draw with a side turned from it");
+    let base = RenderOptions {
+        look: Look::PhotoVaried,
+        ..Default::default()
+    };
+    let raw = PhotoParts {
+        sensor: false,
+        truth: false,
+    };
+    let mut render = |floor_albedo: f64| {
+        draw.floor_albedo = floor_albedo;
+        let opts = draw.render_options(&base);
+        let setup = &PhotoSetup::varied(&cube, view, &opts, &draw)[0];
+        let v = r
+            .render_photo_parts(&cube, view, &opts, setup, raw)
+            .unwrap();
+        let bounce = draw.key_lights(view)[0].floor_bounce;
+        let at = |p: DVec3| f64::from(gray_at(&v, p));
+        (
+            at(DVec3::new(0.0, 15.0, 0.0)),
+            at(side * 7.5 + DVec3::Y * 7.5),
+            bounce,
+        )
+    };
+    let (dark_top, dark_side, dark_bounce) = render(0.1);
+    let (light_top, light_side, light_bounce) = render(0.8);
+    let albedo = draw.block_albedos[0];
+    let expected = 255.0 * albedo * (light_bounce - dark_bounce);
+    assert!(
+        expected > 10.0,
+        "the two floors' bounces differ by {expected} levels"
+    );
+    assert!(
+        (light_side - dark_side - expected).abs() <= 2.0,
+        "shaded side {dark_side} over the dark floor, {light_side} over the light one; expected {expected} levels more"
+    );
+    assert!(
+        (light_top - dark_top).abs() <= 1.0,
+        "top {dark_top} vs {light_top}"
+    );
 }

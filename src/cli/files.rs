@@ -46,15 +46,32 @@ pub fn read_camera(path: &Path) -> anyhow::Result<Camera> {
     parse_camera_json(&text).with_context(|| format!("{}", path.display()))
 }
 
-/// The lights a scene folder's `look.json` records for each of `views`, in order
-/// (docs/varied-look.md "look.json": `views.<view>[].towards_light`, the unit vector towards
-/// each light); only that part of the file is read, so a hand-made `{"views": {"ne":
-/// [{"towards_light": [x, y, z]}]}}` serves as well. A view the file does not name has no
-/// known lights.
-pub fn read_recorded_lights(path: &Path, views: &[CornerView]) -> anyhow::Result<Vec<Vec<DVec3>>> {
+/// What a scene folder's `look.json` records that the recognizer may use (docs/varied-look.md
+/// "look.json"): the lights of each view and the blocks' edge rounding.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedLook {
+    /// The unit vectors towards each light of each view asked for, in order; a view the file
+    /// does not name has no known lights.
+    pub towards_lights: Vec<Vec<DVec3>>,
+    /// The blocks' edge radius, mm; 0 when the file does not say.
+    pub edge_radius_mm: f64,
+}
+
+/// Largest edge radius a `look.json` may record, mm: a third of the thinnest block's 7.5 mm
+/// height (at half of it no flat face would be left); the varied look draws up to 0.5.
+pub const MAX_RECORDED_EDGE_RADIUS_MM: f64 = 2.5;
+
+/// What a scene folder's `look.json` records for `views` ([`RecordedLook`]): `views.<view>[]
+/// .towards_light` (the unit vector towards each light) and `edge_radius_mm`. Only those parts
+/// of the file are read, so a hand-made `{"edge_radius_mm": 0.2, "views": {"ne":
+/// [{"towards_light": [x, y, z]}]}}` serves as well, either part left out.
+pub fn read_recorded_look(path: &Path, views: &[CornerView]) -> anyhow::Result<RecordedLook> {
     #[derive(serde::Deserialize)]
     struct Recorded {
+        #[serde(default)]
         views: std::collections::BTreeMap<String, Vec<RecordedLight>>,
+        #[serde(default)]
+        edge_radius_mm: f64,
     }
     #[derive(serde::Deserialize)]
     struct RecordedLight {
@@ -64,11 +81,17 @@ pub fn read_recorded_lights(path: &Path, views: &[CornerView]) -> anyhow::Result
         blockworld::io::read_text(path).with_context(|| format!("reading {}", path.display()))?;
     let recorded: Recorded = serde_json::from_str(&text).with_context(|| {
         format!(
-            "{}: not a look.json with \"views\": {{\"<view>\": [{{\"towards_light\": [x, y, z]}}]}}; regenerate the scene or remove the file",
+            "{}: not a look.json with \"edge_radius_mm\": r and \"views\": {{\"<view>\": [{{\"towards_light\": [x, y, z]}}]}}; regenerate the scene or remove the file",
             path.display()
         )
     })?;
-    views
+    let r = recorded.edge_radius_mm;
+    anyhow::ensure!(
+        (0.0..=MAX_RECORDED_EDGE_RADIUS_MM).contains(&r),
+        "{}: edge_radius_mm {r} is not a radius from 0 to {MAX_RECORDED_EDGE_RADIUS_MM} mm; give the blocks' edge radius in mm (0 for sharp edges)",
+        path.display()
+    );
+    let towards_lights = views
         .iter()
         .map(|&view| {
             let lights = recorded
@@ -80,7 +103,11 @@ pub fn read_recorded_lights(path: &Path, views: &[CornerView]) -> anyhow::Result
                 .map(|l| checked_light(path, view, l.towards_light))
                 .collect()
         })
-        .collect()
+        .collect::<anyhow::Result<_>>()?;
+    Ok(RecordedLook {
+        towards_lights,
+        edge_radius_mm: r,
+    })
 }
 
 /// `towards_light`, a light `path` records for `view`, as a unit vector; an error naming the

@@ -171,6 +171,7 @@ pub fn observe(
                 drawing,
                 camera: v.camera,
                 towards_lights: v.towards_lights.clone(),
+                edge_radius_mm: v.edge_radius_mm,
             })
         })
         .collect::<Result<Vec<_>, _>>()?;

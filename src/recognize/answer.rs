@@ -20,6 +20,10 @@ pub struct ObservedView {
     /// the shadows an answer casts under them from block edges (docs/recognizer-pictures.md
     /// "Known lights").
     pub towards_lights: Vec<DVec3>,
+    /// Radius of the blocks' rounded edges, mm, when known; 0 for sharp or unknown edges.
+    /// Placement then expects outline corners where rounded outlines put them
+    /// (docs/recognizer-pictures.md "Known edge rounding").
+    pub edge_radius_mm: f64,
 }
 
 impl ObservedView {
@@ -29,6 +33,7 @@ impl ObservedView {
             drawing,
             camera,
             towards_lights: Vec::new(),
+            edge_radius_mm: 0.0,
         }
     }
 
@@ -38,6 +43,7 @@ impl ObservedView {
             drawing,
             camera: self.camera,
             towards_lights: self.towards_lights.clone(),
+            edge_radius_mm: self.edge_radius_mm,
         }
     }
 }

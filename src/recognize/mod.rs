@@ -35,6 +35,7 @@ mod parallelogram;
 mod picture;
 mod placement;
 mod repair;
+mod rounding;
 mod select;
 mod set_aside;
 mod shadow;

@@ -6,7 +6,10 @@
 //! with the truth reaches 0.99: a 15 mm cube off by 0.1 mm along both horizontal axes overlaps
 //! by 0.987. So before the final checks, each group of touching blocks is moved horizontally
 //! by the least-squares shift that best lays its redrawn corners onto the observed points of
-//! every view; the heights stay on their levels.
+//! every view; the heights stay on their levels. When the blocks' edge rounding is known
+//! (`ObservedView::edge_radius_mm`), each corner is expected where the rounded outline puts it
+//! ([`rounded_corner_offset_px`]), not at the sharp corner: the outline's inset does not cancel
+//! over the corners a view happens to show, and would add up to a shift.
 //!
 //! Only points that move rigidly with one group are used: corners of a block (not the ends of
 //! an edge's visible piece, where another block hides the rest), on no contact edge (a crack's
@@ -20,6 +23,7 @@
 //! --seed 33`).
 
 use super::catalog_match::{bounds_mm, touching_pairs};
+use super::rounding::rounded_corner_offset_px;
 use super::{ObservedView, SAME_PLACE_TOL_MM};
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3, UnionFind};
@@ -44,6 +48,9 @@ struct Match {
     observed_px: DVec2,
     /// The view it was seen in.
     view: usize,
+    /// Where the front end finds the corner relative to its sharp picture, px: the known
+    /// edge rounding's outline inset ([`rounded_corner_offset_px`]).
+    rounding_px: DVec2,
 }
 
 /// The blocks' groups: touching blocks share one (a tower, a row); the group of each block.
@@ -119,6 +126,13 @@ fn matches(
                     world_mm,
                     observed_px: observed[q],
                     view,
+                    rounding_px: rounded_corner_offset_px(
+                        d,
+                        p,
+                        blocks,
+                        &v.camera,
+                        v.edge_radius_mm,
+                    ),
                 });
             }
         }
@@ -146,7 +160,7 @@ fn fit_shift(ms: &[&Match], views: &[ObservedView]) -> Option<(DVec2, Vec<f64>)>
     let (mut a, mut b) = ([[0.0f64; 2]; 2], [0.0f64; 2]);
     for m in ms {
         let (p, j) = projected(views, m.view, m.world_mm);
-        let r = m.observed_px - p;
+        let r = m.observed_px - p - m.rounding_px;
         for (s, js) in j.iter().enumerate() {
             b[s] += js.dot(r);
             for (t, jt) in j.iter().enumerate() {
@@ -167,7 +181,7 @@ fn fit_shift(ms: &[&Match], views: &[ObservedView]) -> Option<(DVec2, Vec<f64>)>
         .map(|m| {
             let moved = m.world_mm + DVec3::new(shift.x, 0.0, shift.y);
             let (p, _) = projected(views, m.view, moved);
-            p.distance(m.observed_px)
+            (p + m.rounding_px).distance(m.observed_px)
         })
         .collect();
     Some((shift, residuals))
@@ -442,6 +456,44 @@ mod tests {
             }
         }
         assert_eq!(unmeasured_in_views(&truth, &drawn, &two, 2.0), None);
+    }
+
+    /// A tower whose blocks' edges are rounded by 0.2 mm shows its outline corners inside the
+    /// sharp ones ([`rounded_corner_offset_px`]); with its west corners lost in every view,
+    /// the insets do not cancel. Told the radius, placement leaves the tower where it
+    /// stands; not told, it moves it by the insets' pull.
+    #[test]
+    fn known_rounding_keeps_a_tower_where_its_rounded_outline_puts_it() {
+        let truth = tower();
+        let r = 0.2;
+        let drawn: Vec<LineDrawing> = views_of(&truth, &CornerView::ALL)
+            .iter()
+            .map(|v| draw_hypothesis(&truth, &v.camera))
+            .collect();
+        let seen = |radius_mm: f64| -> Vec<ObservedView> {
+            let mut views = views_of(&truth, &CornerView::ALL);
+            for (v, d) in views.iter_mut().zip(&drawn) {
+                let east = |p: usize| {
+                    rigid_corner(d, p, &truth, &[0, 0, 0]).is_none_or(|(w, _)| w.x > 7.5)
+                };
+                v.drawing.points = (0..d.points.len())
+                    .filter(|&p| east(p))
+                    .map(|p| d.points[p] + rounded_corner_offset_px(d, p, &truth, &v.camera, r))
+                    .collect();
+                v.edge_radius_mm = radius_mm;
+            }
+            views
+        };
+        let moved = |radius_mm: f64| {
+            let placed = placed_by_all_views(&truth, &drawn, &seen(radius_mm), 2.0);
+            placed
+                .iter()
+                .zip(&truth)
+                .map(|(a, b)| a.center_mm.distance(b.center_mm))
+                .fold(0.0, f64::max)
+        };
+        assert!(moved(r) < 1e-6, "{}", moved(r));
+        assert!(moved(0.0) > 0.05, "{}", moved(0.0));
     }
 
     /// A tower of three b30 read 0.12 mm and 0.1 mm off along x and z (what the mean of one

@@ -183,6 +183,9 @@ pub struct RenderedView {
     /// the look records them: the varied look's lights in this view (`look.json`,
     /// docs/varied-look.md "look.json"); empty for looks that record none.
     pub towards_lights: Vec<DVec3>,
+    /// Radius of the blocks' rounded edges, mm, as the look records it (`look.json`
+    /// `edge_radius_mm`, the varied look); 0 for looks that record none.
+    pub edge_radius_mm: f64,
 }
 
 /// Rendering errors; each says what to do.
@@ -478,6 +481,7 @@ fn rendered_view(
         ids,
         lines: LineDrawing::default(),
         towards_lights: Vec::new(),
+        edge_radius_mm: 0.0,
     })
 }
 

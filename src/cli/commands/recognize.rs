@@ -6,7 +6,7 @@
 //! block would move). Writes a reconstruction file: the scene-file blocks plus `status`, `reason` and the CSG tree
 //! (Figure 4.6).
 
-use crate::cli::files::{read_camera, read_drawing, read_picture, read_recorded_lights};
+use crate::cli::files::{read_camera, read_drawing, read_picture, read_recorded_look};
 use crate::cli::progress::with_progress;
 use anyhow::Context;
 use blockworld::camera::CornerView;
@@ -28,7 +28,9 @@ pub struct Args {
     /// Directory with `camera_<v>.json` and `view_<v>.png` (or `lines_<v>.json`) per view; a
     /// `look.json` beside them gives the lights that lit each view (its
     /// `views.<v>[].towards_light`), so that the edges of the shadows an answer casts are
-    /// told from block edges (docs/recognizer-pictures.md "Known lights").
+    /// told from block edges, and the blocks' edge radius (`edge_radius_mm`), so that their
+    /// rounded outlines place them (docs/recognizer-pictures.md "Known lights", "Known edge
+    /// rounding").
     pub dir: PathBuf,
     /// The reconstruction file to write.
     #[arg(short, long)]
@@ -151,19 +153,21 @@ fn check_paths(args: &Args, views: &[CornerView]) -> anyhow::Result<()> {
     crate::cli::files::check_output(&args.output, &inputs)
 }
 
-/// `observed`, the views of the folder `dir`, with the lights its `look.json` records for
-/// each (`files::read_recorded_lights`; docs/recognizer-pictures.md "Known lights"); unchanged
-/// when the folder has none.
-fn with_recorded_lights(
+/// `observed`, the views of the folder `dir`, with what its `look.json` records: each view's
+/// lights and the blocks' edge rounding (`files::read_recorded_look`;
+/// docs/recognizer-pictures.md "Known lights" and "Known edge rounding"); unchanged when the
+/// folder has none.
+fn with_recorded_look(
     dir: &Path,
     mut observed: Vec<ObservedView>,
 ) -> anyhow::Result<Vec<ObservedView>> {
     let path = dir.join(LOOK_FILE);
     if path.exists() {
         let views: Vec<CornerView> = observed.iter().map(|v| v.camera.view).collect();
-        let lights = read_recorded_lights(&path, &views)?;
-        for (v, l) in observed.iter_mut().zip(lights) {
+        let look = read_recorded_look(&path, &views)?;
+        for (v, l) in observed.iter_mut().zip(look.towards_lights) {
             v.towards_lights = l;
+            v.edge_radius_mm = look.edge_radius_mm;
         }
     }
     Ok(observed)
@@ -186,7 +190,7 @@ pub(super) fn recognize_folder(
         .collect::<anyhow::Result<Vec<_>>>()?
         .into_iter()
         .unzip();
-    let observed = with_recorded_lights(dir, observed)?;
+    let observed = with_recorded_look(dir, observed)?;
     let pictures: Vec<&image::GrayImage> = pictures.iter().flatten().collect();
     let quiet = |_: SearchProgress| {};
     let shown_progress = search_progress();

@@ -320,6 +320,7 @@ impl Renderer {
         let gray = drawn.photo.sensor.expose(&radiance, seed);
         let mut rendered = written_view(written, gray, truth, &drawn, view);
         rendered.towards_lights = draw.towards_lights(view);
+        rendered.edge_radius_mm = draw.edge_radius_mm;
         Ok(rendered)
     }
 
@@ -394,6 +395,7 @@ fn written_view(
         ids: truth.2,
         lines: LineDrawing::default(),
         towards_lights: Vec::new(),
+        edge_radius_mm: 0.0,
     }
 }
 
@@ -472,7 +474,12 @@ fn photo_uniforms(
             BLOCKER_SEARCH_MM as f32,
             MAX_PENUMBRA_MM as f32,
         ],
-        soft_min: [MIN_PENUMBRA_MM as f32, gloss as f32, shininess as f32, 0.0],
+        soft_min: [
+            MIN_PENUMBRA_MM as f32,
+            gloss as f32,
+            shininess as f32,
+            light.floor_bounce as f32,
+        ],
         eye: if camera.is_orthographic() {
             camera.towards_eye().extend(0.0)
         } else {

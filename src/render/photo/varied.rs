@@ -11,7 +11,7 @@
 //! Plain data, no GPU: the draw depends only on the scene's seed, its block count and the
 //! views' elevation, so it is the same whatever `--jobs`.
 
-use super::mesh::{EdgeProfile, KeyLight, MeshLook};
+use super::mesh::{ambient_radiance, EdgeProfile, KeyLight, MeshLook};
 use super::sensor::SensorModel;
 use super::{Look, PhotoOptions};
 use crate::camera::{CameraOptions, CornerView, Projection};
@@ -356,18 +356,36 @@ impl LookDraw {
     }
 
     /// Every light as `view` sees it, the ambient given to the first only, each with the
-    /// drawn angular radius (the shader sums them through one radiance pass per light).
+    /// drawn angular radius and the light it sends back up off the floor (the shader sums them
+    /// through one radiance pass per light).
     pub fn key_lights(&self, view: CornerView) -> Vec<KeyLight> {
         self.lights
             .iter()
             .enumerate()
-            .map(|(k, l)| KeyLight {
-                towards_light: DVec3::from_array(l.in_view(view).towards_light),
-                diffuse: l.intensity,
-                ambient: if k == 0 { self.ambient } else { 0.0 },
-                angular_radius_deg: self.light_radius_deg,
+            .map(|(k, l)| {
+                let towards_light = DVec3::from_array(l.in_view(view).towards_light);
+                let ambient = if k == 0 { self.ambient } else { 0.0 };
+                KeyLight {
+                    towards_light,
+                    diffuse: l.intensity,
+                    ambient,
+                    angular_radius_deg: self.light_radius_deg,
+                    floor_bounce: self.floor_bounce(l.intensity, towards_light, ambient),
+                }
             })
             .collect()
+    }
+
+    /// The radiance the floor sends up onto a face turned straight down, per unit albedo of
+    /// the face, from one light of `intensity` towards `towards_light` and the `ambient` it
+    /// carries: the floor's irradiance (the light's cosine on it plus the sky) times its
+    /// albedo, over two, so a side face, which sees half the floor, gets half of it
+    /// ([`KeyLight::floor_bounce`]). One bounce off a floor lit evenly all round: the blocks'
+    /// own shadows on it and light between blocks are left out. Without it a face turned from
+    /// every light is lit by the ambient alone, darker than Cycles draws it over a light floor
+    /// (docs/yardstick.md "Where the looks part").
+    fn floor_bounce(&self, intensity: f64, towards_light: DVec3, ambient: f64) -> f64 {
+        self.floor_albedo * (intensity * towards_light.y.max(0.0) + ambient) / 2.0
     }
 
     /// The unit vector towards each light as `view` sees it, in `lights` order: what
@@ -431,33 +449,36 @@ fn bin(value: f64, steps: &[(f64, &str)], last: &str) -> String {
 /// The weakest step between the blocks and the floor the draw puts in a picture, gray levels:
 /// over the four views and the three block faces each sees (the top and the two sides facing
 /// the camera), the smallest difference between the face and the floor, each lit by every
-/// light that faces it (Lambert, no cast shadow, no gloss) plus the ambient, at the mean block
-/// albedo and the floor albedo, through the draw's gain (255 levels, clipped at white). A
-/// face lit like the floor beside it draws a faint outline whatever the albedos: a shaded side
-/// of a light block on a dark floor can match it. Chapter VI's threshold of 80 on the smoothed
-/// Sobel magnitude answers to a step of 20 levels.
+/// light that faces it (Lambert, no cast shadow, no gloss) plus the ambient and the floor's
+/// bounce ([`ambient_radiance`]), at the mean block albedo and the floor albedo, through the
+/// draw's gain (255 levels, clipped at white). A face lit like the floor beside it draws a
+/// faint outline whatever the albedos: a shaded side of a light block on a dark floor can
+/// match it. Chapter VI's threshold of 80 on the smoothed Sobel magnitude answers to a step of
+/// 20 levels.
 pub fn outline_contrast_levels(draw: &LookDraw) -> f64 {
     let mean_block =
         draw.block_albedos.iter().sum::<f64>() / draw.block_albedos.len().max(1) as f64;
-    let level = |albedo: f64, normal: DVec3, seen: &[ViewLight]| {
-        let lit: f64 = draw
-            .lights
+    let level = |albedo: f64, normal: DVec3, lights: &[KeyLight]| {
+        let lit: f64 = lights
             .iter()
-            .zip(seen)
-            .map(|(l, v)| l.intensity * normal.dot(DVec3::from_array(v.towards_light)).max(0.0))
+            .map(|l| {
+                ambient_radiance(l.ambient, l.floor_bounce, normal)
+                    + l.diffuse * normal.dot(l.towards_light).max(0.0)
+            })
             .sum();
-        255.0 * (draw.sensor.gain * albedo * (draw.ambient + lit)).min(1.0)
+        255.0 * (draw.sensor.gain * albedo * lit).min(1.0)
     };
     CornerView::ALL
         .iter()
-        .filter_map(|v| {
-            let seen = draw.views.get(v.name())?;
+        .filter(|v| draw.views.contains_key(v.name()))
+        .filter_map(|&v| {
+            let lights = draw.key_lights(v);
             let [x, _, z] = towards_bearing(v.azimuth_deg(), 0.0);
             let faces = [DVec3::Y, DVec3::X * x.signum(), DVec3::Z * z.signum()];
-            let floor = level(draw.floor_albedo, DVec3::Y, seen);
+            let floor = level(draw.floor_albedo, DVec3::Y, &lights);
             faces
                 .iter()
-                .map(|&n| (level(mean_block, n, seen) - floor).abs())
+                .map(|&n| (level(mean_block, n, &lights) - floor).abs())
                 .reduce(f64::min)
         })
         .reduce(f64::min)
@@ -574,7 +595,8 @@ mod tests {
     }
 
     /// The contrast bin reads the drawn light, not the albedos alone: a light block on a dark
-    /// floor lit from straight above (its sides get the ambient only) draws a faint outline.
+    /// floor lit from straight above (its sides get the floor's bounce only) draws a faint
+    /// outline.
     #[test]
     fn the_outline_contrast_is_the_weakest_face_against_the_floor() {
         let mut d = LookDraw::draw(33, 1, 35.0);
@@ -589,9 +611,10 @@ mod tests {
             .iter()
             .map(|v| (v.name().to_string(), vec![d.lights[0].in_view(*v)]))
             .collect();
-        // Sides unlit (0) against a floor at 0.07: 17.85 levels.
-        assert!((outline_contrast_levels(&d) - 17.85).abs() < 1e-6);
-        assert_eq!(factor_bins(&d)["contrast"], "medium");
+        // Sides lit by the floor's bounce alone (0.9 x 0.1 x 0.7 / 2 = 0.0315) against a
+        // floor at 0.07: 9.8175 levels.
+        assert!((outline_contrast_levels(&d) - 9.8175).abs() < 1e-6);
+        assert_eq!(factor_bins(&d)["contrast"], "low");
         // A lamp beside the camera at 30 degrees lights every visible face brighter.
         d.lights[0].placement = Placement::Camera;
         d.lights[0].bearing_deg = 0.0;

@@ -90,6 +90,24 @@ pub struct KeyLight {
     /// Angular radius of the light seen from the scene, degrees: an area light (a softbox)
     /// whose shadows soften with the distance from the occluder.
     pub angular_radius_deg: f64,
+    /// Radiance the lit floor sends back up, per unit albedo of the face it reaches: a face
+    /// turned by `n` gets `floor_bounce * (1 - n.y)` of it, and the ambient only its sky share
+    /// `ambient * (1 + n.y) / 2` ([`ambient_radiance`]); 0 keeps the ambient the same on
+    /// every face (the fixed photographic look).
+    pub floor_bounce: f64,
+}
+
+/// The light a face with unit normal `normal` (world, y up) receives besides the direct light,
+/// per unit albedo: with no floor bounce, `ambient` on every face; with it, the sky's share of
+/// `ambient` (the half-space above the face's horizon: all of it on a top face, half on a
+/// side) plus the bounce of a floor lit evenly all round ([`KeyLight::floor_bounce`]). The
+/// shader (`ambient_in` in shaders/photo.wgsl) computes the same.
+pub fn ambient_radiance(ambient: f64, floor_bounce: f64, normal: DVec3) -> f64 {
+    if floor_bounce > 0.0 {
+        ambient * (1.0 + normal.y) / 2.0 + floor_bounce * (1.0 - normal.y)
+    } else {
+        ambient
+    }
 }
 
 /// The key light for `camera`: the line-art light's direction (upper left, behind the camera,
@@ -116,6 +134,7 @@ pub fn key_light(camera: &Camera, jitter_deg: f64, seed: u64) -> KeyLight {
         diffuse: PHOTO_DIFFUSE,
         ambient: PHOTO_AMBIENT,
         angular_radius_deg: KEY_LIGHT_RADIUS_DEG,
+        floor_bounce: 0.0,
     }
 }
 

@@ -398,3 +398,17 @@ fn a_neighbour_flush_with_a_face_casts_no_shadow_on_it() {
     let on_top = frame.onto_plane(near, top[0], DVec3::Y);
     assert!((on_top - DVec3::new(7.0, 15.0, 0.0)).length() < 1e-9);
 }
+
+/// With a floor bounce a top face sees the whole sky and no floor, a side half of each, a
+/// face turned down the floor alone (twice a side's bounce); without one the ambient is alike
+/// on every face.
+#[test]
+fn the_ambient_splits_into_sky_above_and_floor_below_the_face() {
+    let (sky, bounce) = (0.2, 0.05);
+    assert_eq!(ambient_radiance(sky, bounce, DVec3::Y), sky);
+    assert!((ambient_radiance(sky, bounce, DVec3::X) - (sky / 2.0 + bounce)).abs() < 1e-12);
+    assert!((ambient_radiance(sky, bounce, -DVec3::Y) - 2.0 * bounce).abs() < 1e-12);
+    for n in [DVec3::Y, DVec3::X, -DVec3::Z, -DVec3::Y] {
+        assert_eq!(ambient_radiance(sky, 0.0, n), sky);
+    }
+}
