@@ -10,7 +10,9 @@
 //!
 //! This module imports nothing from the crate; every other stage may import it.
 
-pub use glam::{DMat3, DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
+pub use glam::{
+    DMat2, DMat3, DMat4, DQuat, DVec2, DVec3, DVec4, Mat3, Mat4, Quat, Vec2, Vec3, Vec4,
+};
 
 /// Contact tolerance in millimetres: two faces closer than this (and parallel) count as
 /// touching, and a penetration shallower than this is not an overlap. Settled rapier poses sit

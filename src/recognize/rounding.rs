@@ -13,7 +13,7 @@
 
 use crate::camera::Camera;
 use crate::drawing::LineDrawing;
-use crate::geom::{DVec2, DVec3};
+use crate::geom::{DMat2, DVec2, DVec3};
 use crate::scene::Block;
 
 /// The outward normal (picture px, unit) and outward move (px) of drawn line `k` of `drawn`
@@ -73,24 +73,18 @@ pub fn rounded_corner_offset_px(
         .filter_map(|k| outline_move_px(drawn, k, blocks, camera, radius_mm))
         .collect();
     // Normal equations of n_k . d = m_k; one line moves the point along its normal.
-    let (mut a, mut rhs) = ([[0.0f64; 2]; 2], DVec2::ZERO);
-    for &(n, m) in &moves {
-        a[0][0] += n.x * n.x;
-        a[0][1] += n.x * n.y;
-        a[1][1] += n.y * n.y;
-        rhs += n * m;
-    }
-    let det = a[0][0] * a[1][1] - a[0][1] * a[0][1];
+    let (normals, rhs) = moves
+        .iter()
+        .fold((DMat2::ZERO, DVec2::ZERO), |(a, b), &(n, m)| {
+            (a + DMat2::from_cols(n * n.x, n * n.y), b + n * m)
+        });
     match moves.as_slice() {
         [] => DVec2::ZERO,
         [(n, m)] => *n * *m,
-        _ if det.abs() < 1e-6 => {
+        _ if normals.determinant().abs() < 1e-6 => {
             moves.iter().map(|&(n, m)| n * m).sum::<DVec2>() / moves.len() as f64
         }
-        _ => DVec2::new(
-            (a[1][1] * rhs.x - a[0][1] * rhs.y) / det,
-            (a[0][0] * rhs.y - a[0][1] * rhs.x) / det,
-        ),
+        _ => normals.inverse() * rhs,
     }
 }
 
