@@ -25,6 +25,7 @@
 use super::catalog_match::{bounds_mm, touching_pairs};
 use super::rounding::rounded_corner_offset_px;
 use super::{ObservedView, SAME_PLACE_TOL_MM};
+use crate::camera::Projector;
 use crate::drawing::LineDrawing;
 use crate::geom::{DVec2, DVec3, UnionFind};
 use crate::scene::Block;
@@ -112,6 +113,7 @@ fn matches(
     let mut out = Vec::new();
     for (view, (d, v)) in drawn.iter().zip(views).enumerate() {
         let observed = &v.drawing.points;
+        let projector = Projector::new(&v.camera);
         for p in 0..d.points.len() {
             let Some((world_mm, g)) = rigid_corner(d, p, blocks, &group) else {
                 continue;
@@ -130,7 +132,7 @@ fn matches(
                         d,
                         p,
                         blocks,
-                        &v.camera,
+                        (&v.camera, &projector),
                         v.edge_radius_mm,
                     ),
                 });
@@ -478,7 +480,10 @@ mod tests {
                 };
                 v.drawing.points = (0..d.points.len())
                     .filter(|&p| east(p))
-                    .map(|p| d.points[p] + rounded_corner_offset_px(d, p, &truth, &v.camera, r))
+                    .map(|p| {
+                        let seen_by = (&v.camera, &Projector::new(&v.camera));
+                        d.points[p] + rounded_corner_offset_px(d, p, &truth, seen_by, r)
+                    })
                     .collect();
                 v.edge_radius_mm = radius_mm;
             }

@@ -11,19 +11,20 @@
 //! view shares. Edges between two faces turned to the camera are not moved: where their step
 //! lies across the rounded band depends on how the two faces are lit.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projector};
 use crate::drawing::LineDrawing;
 use crate::geom::{DMat2, DVec2, DVec3};
 use crate::scene::Block;
 
 /// The outward normal (picture px, unit) and outward move (px) of drawn line `k` of `drawn`
-/// (`camera`'s redraw of `blocks`) when the blocks' edges are rounded by `radius_mm`: `Some`
-/// only for an outline edge of its block (one of its two faces turned to the camera).
+/// (`camera`'s redraw of `blocks`, `projector` its projection) when the blocks' edges are
+/// rounded by `radius_mm`: `Some` only for an outline edge of its block (one of its two faces
+/// turned to the camera).
 fn outline_move_px(
     drawn: &LineDrawing,
     k: usize,
     blocks: &[Block],
-    camera: &Camera,
+    (camera, projector): (&Camera, &Projector),
     radius_mm: f64,
 ) -> Option<(DVec2, f64)> {
     let e = drawn.edges.get(k)?;
@@ -40,7 +41,7 @@ fn outline_move_px(
     if camera.faces_eye(na, on_edge) == camera.faces_eye(nb, on_edge) {
         return None;
     }
-    let at = |w: DVec3| camera.picture_from_world(w).truncate();
+    let at = |w: DVec3| projector.picture(w);
     let [i, j] = drawn.lines[k];
     let along = (drawn.points[j] - drawn.points[i]).normalize_or_zero();
     let outward_mm = na + nb;
@@ -50,27 +51,28 @@ fn outline_move_px(
     }
     // The shrunk edge: `radius_mm` inside both faces' planes.
     let shrunk = on_edge - outward_mm * (radius_mm / (1.0 + na.dot(nb)));
-    let ball_px = radius_mm * crate::camera::Projector::new(camera).px_per_mm(on_edge);
+    let ball_px = radius_mm * projector.px_per_mm(on_edge);
     let moved = normal.dot(at(shrunk) - at(on_edge)) + ball_px;
     (along != DVec2::ZERO && moved.is_finite()).then_some((normal, moved))
 }
 
 /// How far from its sharp picture the front end finds point `p` of `drawn` (`camera`'s redraw
-/// of `blocks`) when the blocks' edges are rounded by `radius_mm`, px: the point where the
-/// outline lines at `p`, each moved as [`outline_move_px`] says, meet (least squares); zero
-/// where no outline line ends, or for sharp edges.
+/// of `blocks`, `projector` its projection, built once per view) when the blocks' edges are
+/// rounded by `radius_mm`, px: the point where the outline lines at `p`, each moved as
+/// [`outline_move_px`] says, meet (least squares); zero where no outline line ends, or for
+/// sharp edges.
 pub fn rounded_corner_offset_px(
     drawn: &LineDrawing,
     p: usize,
     blocks: &[Block],
-    camera: &Camera,
+    seen_by: (&Camera, &Projector),
     radius_mm: f64,
 ) -> DVec2 {
     if radius_mm <= 0.0 {
         return DVec2::ZERO;
     }
     let moves: Vec<(DVec2, f64)> = super::picture::lines_at(drawn, p)
-        .filter_map(|k| outline_move_px(drawn, k, blocks, camera, radius_mm))
+        .filter_map(|k| outline_move_px(drawn, k, blocks, seen_by, radius_mm))
         .collect();
     // Normal equations of n_k . d = m_k; one line moves the point along its normal.
     let (normals, rhs) = moves
@@ -120,10 +122,11 @@ mod tests {
             .collect();
         for v in views_of(&cube, &CornerView::ALL) {
             let d = draw_hypothesis(&cube, &v.camera);
-            let scale = crate::camera::Projector::new(&v.camera).px_per_mm(DVec3::ZERO);
+            let projector = Projector::new(&v.camera);
+            let scale = projector.px_per_mm(DVec3::ZERO);
             let mut outline = 0;
             for k in 0..d.lines.len() {
-                let moved = outline_move_px(&d, k, &cube, &v.camera, r);
+                let moved = outline_move_px(&d, k, &cube, (&v.camera, &projector), r);
                 if d.kinds[k] != LineKind::Boundary {
                     assert_eq!(moved, None, "an inner edge of {:?} moved", v.camera.view);
                     continue;
@@ -148,16 +151,17 @@ mod tests {
         let cube = [Block::new("b15", DVec3::new(0.0, 7.5, 0.0), 0.0)];
         let v = &views_of(&cube, &[CornerView::Se])[0];
         let d = draw_hypothesis(&cube, &v.camera);
-        let scale = crate::camera::Projector::new(&v.camera).px_per_mm(DVec3::ZERO);
+        let projector = Projector::new(&v.camera);
+        let scale = projector.px_per_mm(DVec3::ZERO);
         let centre = d.points.iter().sum::<DVec2>() / d.points.len() as f64;
         let corner_px = (2f64.sqrt() - 1.0) * r * scale / 60f64.to_radians().sin();
         let mut still = 0;
         for p in 0..d.points.len() {
             assert_eq!(
-                rounded_corner_offset_px(&d, p, &cube, &v.camera, 0.0),
+                rounded_corner_offset_px(&d, p, &cube, (&v.camera, &projector), 0.0),
                 DVec2::ZERO
             );
-            let off = rounded_corner_offset_px(&d, p, &cube, &v.camera, r);
+            let off = rounded_corner_offset_px(&d, p, &cube, (&v.camera, &projector), r);
             if off == DVec2::ZERO {
                 still += 1;
                 continue;
