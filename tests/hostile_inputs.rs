@@ -362,3 +362,53 @@ fn recognize_names_a_bad_look_json_and_reads_a_hand_made_one() {
     let stdout = common::ok(run());
     assert!(stdout.contains("1 blocks in 1 layers"), "{stdout}");
 }
+
+/// `--grid-mm` tells `recognize`, `recognize-dataset` and `bench accuracy` the pitch of the
+/// grid the blocks stand on: a pitch that is no number, not over four times the snap or over
+/// 1000 mm exits 2 naming the flag and writes nothing; the cube of the vision fixture, which
+/// stands on the 7.5 mm grid, is answered with it.
+#[test]
+fn a_grid_pitch_out_of_range_is_refused_and_the_fischer_technik_grid_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::root().join("tests/fixtures/vision/single_cube");
+    let cube = cube.to_string_lossy().into_owned();
+    let cube = cube.as_str();
+    let out = dir.path().join("r.json");
+    let out_s = out.to_string_lossy().into_owned();
+    let out_s = out_s.as_str();
+    let folder = dir.path().join("recognitions");
+    let folder_s = folder.to_string_lossy().into_owned();
+    let folder_s = folder_s.as_str();
+    for pitch in ["nan", "0", "-7.5", "4", "1000.5"] {
+        let grid = format!("--grid-mm={pitch}");
+        let grid = grid.as_str();
+        for args in [
+            vec!["recognize", cube, "-o", out_s, grid],
+            vec!["recognize-dataset", cube, "-o", folder_s, grid],
+            vec![
+                "bench", "accuracy", "--family", "single", "--count", "1", grid,
+            ],
+        ] {
+            let err = fails_with_2(&blockworld(args.iter().copied()));
+            assert!(
+                err.contains("--grid-mm") && err.contains("more than 4"),
+                "{err}"
+            );
+            assert!(!out.exists() && !folder.exists(), "{args:?}");
+        }
+    }
+    let centre = |grid: &[&str]| {
+        let stdout = common::ok(blockworld(
+            ["recognize", cube, "-o", out_s].iter().chain(grid),
+        ));
+        assert!(stdout.contains("1 blocks in 1 layers"), "{stdout}");
+        let recon: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let c = &recon["blocks"][0]["center"];
+        [c[0].as_f64().unwrap(), c[2].as_f64().unwrap()]
+    };
+    // The cube stands with its least x and z at -7.5 mm: on the grid exactly with it, a few
+    // micrometres off without it.
+    assert!(centre(&["--grid-mm", "7.5"]).iter().all(|c| c.abs() < 1e-9));
+    assert!(centre(&[]).iter().any(|c| c.abs() > 1e-7));
+}

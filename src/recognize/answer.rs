@@ -84,6 +84,13 @@ pub struct RecognizeOptions {
     /// directions, sets it (docs/recognizer-pictures.md "Steps read along the block
     /// directions").
     pub two_views_place: bool,
+    /// The pitch of the grid the blocks stand on, mm, when it is known: every block's least x
+    /// and z a multiple of it in the cameras' world frame (the Fischer-Technik grid of 7.5 mm,
+    /// on which `generate`'s supported families put every block, docs/datasets.md
+    /// "Families"). Placement then puts each block on the nearest grid place and holds the
+    /// views to that place within `placement::GRID_SNAP_MM` (docs/recognizer-pictures.md
+    /// "Blocks on a known grid"); default `None`, blocks anywhere.
+    pub grid_mm: Option<f64>,
 }
 
 /// The search's default node budget: the hardest scene of the suites and the accuracy gate
@@ -109,6 +116,7 @@ impl Default for RecognizeOptions {
             time_budget_s: DEFAULT_TIME_BUDGET_S,
             every_view_places: false,
             two_views_place: false,
+            grid_mm: None,
         }
     }
 }

@@ -258,9 +258,9 @@ pub(super) fn placed_answer(
     h: Hypothesis,
     views: &[ObservedView],
     pictures: &[ViewPicture],
-    tol_px: f64,
+    (tol_px, grid_mm): (f64, Option<f64>),
 ) -> Hypothesis {
-    let blocks = placed_by_all_views(&h.blocks, &h.drawn, views, tol_px);
+    let blocks = placed_by_all_views(&h.blocks, &h.drawn, views, tol_px, grid_mm);
     if blocks == h.blocks {
         return h;
     }
@@ -314,7 +314,9 @@ pub(super) fn final_checks(
     if let Some(detail) = alternative {
         return Some(Decline::Ambiguous { detail });
     }
-    if let Some((block, shift)) = imprecisely_placed(blocks, &h.drawn, views, opts.tol_px) {
+    if let Some((block, shift)) =
+        imprecisely_placed(blocks, &h.drawn, views, opts.tol_px, opts.grid_mm)
+    {
         let shift_mm = shift.length();
         return Some(Decline::Imprecise { block, shift_mm });
     }
@@ -324,7 +326,7 @@ pub(super) fn final_checks(
         }
     }
     if opts.every_view_places {
-        let misplaced = misplaced_in_a_view(blocks, &h.drawn, views, opts.tol_px);
+        let misplaced = misplaced_in_a_view(blocks, &h.drawn, views, opts.tol_px, opts.grid_mm);
         if let Some((block, v)) = misplaced {
             let view = views[v].camera.view.name().to_string();
             return Some(Decline::ImpreciseInAView { block, view });

@@ -55,6 +55,7 @@ pub use answer::{
 pub use answer::{DEFAULT_NODE_BUDGET, DEFAULT_TIME_BUDGET_S};
 pub use budget::{SearchBudget, SearchProgress};
 pub use catalog_match::{Layer, MatchTolerances};
+pub use placement::GRID_SNAP_MM;
 pub use verify::{check_hypothesis, draw_hypothesis, ViewCheck};
 
 pub(crate) use ambiguity::equally_good_alternative;
@@ -180,7 +181,7 @@ pub(super) fn recognize_prepared(
     let search = (&SearchLimits::new(opts, &budget), trapezoids);
     let h = find_hypothesis(views, opts, search, pictures, &mut evidence);
     let h = match h {
-        Ok(h) => placed_answer(h, views, pictures, opts.tol_px),
+        Ok(h) => placed_answer(h, views, pictures, (opts.tol_px, opts.grid_mm)),
         Err(d) => return Recognition::declined(d, evidence),
     };
     for (ev, c) in evidence.views.iter_mut().zip(&h.checks) {

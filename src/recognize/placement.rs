@@ -21,6 +21,14 @@
 //! window light moves one view's corners by up to 0.1 mm, and a shift within that scatter
 //! turns exact answers partial (two single blocks of `bench accuracy --look photo_varied
 //! --seed 33`).
+//!
+//! When the blocks are known to stand on a grid (`RecognizeOptions::grid_mm`: the
+//! Fischer-Technik grid of 7.5 mm, on which the supported scene families put every block),
+//! each block is put on the nearest grid place, when the views' corners put it within
+//! [`GRID_SNAP_MM`] of one, and the views then need only agree on that place: each block's
+//! fitted shift from it must stay within [`GRID_SNAP_MM`] (docs/recognizer-pictures.md
+//! "Blocks on a known grid"). A tenth of a millimetre decides an exact answer off the grid;
+//! on it, the nearest grid place does.
 
 use super::catalog_match::{bounds_mm, touching_pairs};
 use super::rounding::rounded_corner_offset_px;
@@ -235,17 +243,30 @@ fn group_matches<'a>(blocks: &[Block], all: &'a [Match]) -> Vec<(Vec<usize>, Vec
 /// `blocks` with each group of touching blocks moved by its fitted horizontal shift (see the
 /// module doc); `drawn` is their redraw in every view. A group whose corners do not fix the
 /// shift, whose views do not agree on it ([`views_agree`]), or whose shift exceeds
-/// [`MAX_SHIFT_MM`], stays where it is.
+/// [`MAX_SHIFT_MM`], stays where it is. With the grid's pitch `grid_mm` known, a group whose
+/// blocks the fitted shift (or none, when it is unfixed or over [`GRID_SNAP_MM`]) leaves
+/// within [`GRID_SNAP_MM`] of grid places is put on them instead ([`moves_onto_grid`]).
 pub fn placed_by_all_views(
     blocks: &[Block],
     drawn: &[LineDrawing],
     views: &[ObservedView],
     tol_px: f64,
+    grid_mm: Option<f64>,
 ) -> Vec<Block> {
     let all = matches(blocks, drawn, views, tol_px);
     let mut out = blocks.to_vec();
     for (members, ms) in group_matches(blocks, &all) {
-        let Some((shift, kept)) = group_shift(&ms, views) else {
+        let fitted = group_shift(&ms, views);
+        let measured = fitted.as_ref().map(|f| f.0);
+        let onto_grid = grid_mm.and_then(|p| moves_onto_grid_from(blocks, &members, measured, p));
+        if let Some(moves) = onto_grid {
+            for (&i, m) in members.iter().zip(moves) {
+                out[i].center_mm.x += m.x;
+                out[i].center_mm.z += m.y;
+            }
+            continue;
+        }
+        let Some((shift, kept)) = fitted else {
             continue;
         };
         if shift.length() > MAX_SHIFT_MM || !views_agree(&kept, shift, views) {
@@ -257,6 +278,74 @@ pub fn placed_by_all_views(
         }
     }
     out
+}
+
+/// Farthest a block is moved onto a known grid, and farthest the views' corners may put a
+/// block on the grid from its place, mm, per horizontal axis: under a quarter of the 7.5 mm
+/// pitch, so the nearest grid place is never in doubt, and over the tenths of a millimetre a
+/// rounded, unevenly lit edge moves a view's corners (docs/recognizer-pictures.md "Blocks on
+/// a known grid").
+pub const GRID_SNAP_MM: f64 = 1.0;
+
+/// The horizontal moves (x, z mm), one per block of `members`, that put each block, first
+/// moved by `shift`, with its least x and z on multiples of `pitch_mm`; `None` when any move
+/// differs from `shift` by more than [`GRID_SNAP_MM`] on an axis (the block is not near a
+/// grid place).
+fn moves_onto_grid(
+    blocks: &[Block],
+    members: &[usize],
+    shift: DVec2,
+    pitch_mm: f64,
+) -> Option<Vec<DVec2>> {
+    members
+        .iter()
+        .map(|&i| {
+            let (lo, _) = bounds_mm(&blocks[i]);
+            let at = DVec2::new(lo.x, lo.z) + shift;
+            let snap = (at / pitch_mm).round() * pitch_mm - at;
+            (snap.abs().max_element() <= GRID_SNAP_MM).then_some(shift + snap)
+        })
+        .collect()
+}
+
+/// [`moves_onto_grid`] from where the views' fitted shift `measured` puts the group, or from
+/// where it stands when they fix none or put it over [`GRID_SNAP_MM`] away.
+fn moves_onto_grid_from(
+    blocks: &[Block],
+    members: &[usize],
+    measured: Option<DVec2>,
+    pitch_mm: f64,
+) -> Option<Vec<DVec2>> {
+    let shift = measured
+        .filter(|s| s.length() <= GRID_SNAP_MM)
+        .unwrap_or(DVec2::ZERO);
+    moves_onto_grid(blocks, members, shift, pitch_mm)
+}
+
+/// `true` when every block of `members` has its least x and z on the grid of `pitch_mm`
+/// (within a micrometre).
+fn on_grid(blocks: &[Block], members: &[usize], pitch_mm: f64) -> bool {
+    moves_onto_grid(blocks, members, DVec2::ZERO, pitch_mm)
+        .is_some_and(|moves| moves.iter().all(|m| m.abs().max_element() < 1e-3))
+}
+
+/// The first block of `members` that `shift` (x, z mm, what a group's corners ask) puts off
+/// its place: beyond [`GRID_SNAP_MM`] on an axis when the group stands on the known grid of
+/// `grid_mm`, else so far that it overlaps its place by less than [`EXACT_OVERLAP`].
+fn first_off_its_place(
+    blocks: &[Block],
+    members: &[usize],
+    shift: DVec2,
+    grid_mm: Option<f64>,
+) -> Option<usize> {
+    if grid_mm.is_some_and(|p| on_grid(blocks, members, p)) {
+        let off = shift.abs().max_element() > GRID_SNAP_MM;
+        return off.then_some(members[0]);
+    }
+    members
+        .iter()
+        .copied()
+        .find(|&i| overlap_after_shift(&blocks[i], shift) < EXACT_OVERLAP)
 }
 
 /// An answer is exact only when its volume overlap with the truth reaches this (the scorer's
@@ -278,19 +367,18 @@ pub(super) fn overlap_after_shift(b: &Block, shift: DVec2) -> f64 {
 /// put the group so far from where it stands that one of its blocks would overlap its own
 /// place by less than [`EXACT_OVERLAP`]. [`placed_by_all_views`] has already moved every group
 /// whose views agree on a shift, so such a group is one whose views disagree, or whose shift
-/// exceeds [`MAX_SHIFT_MM`]: its place is not measured, and an answer there may be off.
+/// exceeds [`MAX_SHIFT_MM`]: its place is not measured, and an answer there may be off. A
+/// group on the known grid of `grid_mm` is off its place only beyond [`GRID_SNAP_MM`].
 pub fn imprecisely_placed(
     blocks: &[Block],
     drawn: &[LineDrawing],
     views: &[ObservedView],
     tol_px: f64,
+    grid_mm: Option<f64>,
 ) -> Option<(usize, DVec2)> {
     first_of_groups(blocks, drawn, views, tol_px, |members, ms| {
         let (shift, _) = group_shift(ms, views)?;
-        members
-            .iter()
-            .find(|&&i| overlap_after_shift(&blocks[i], shift) < EXACT_OVERLAP)
-            .map(|&i| (i, shift))
+        first_off_its_place(blocks, members, shift, grid_mm).map(|i| (i, shift))
     })
 }
 
@@ -320,20 +408,19 @@ fn shift_in_view(ms: &[&Match], v: usize, views: &[ObservedView]) -> Option<DVec
 /// as [`placed_by_all_views`] fits all of them); `None` when every such view places every
 /// block exactly. A stricter bar than [`imprecisely_placed`], for answers read from fainter
 /// lines or with lines set aside, where one view's scatter must not hide a misplaced block
-/// (docs/recognizer-pictures.md "A second reading of fainter lines").
+/// (docs/recognizer-pictures.md "A second reading of fainter lines"). On the known grid of
+/// `grid_mm`, off means beyond [`GRID_SNAP_MM`].
 pub fn misplaced_in_a_view(
     blocks: &[Block],
     drawn: &[LineDrawing],
     views: &[ObservedView],
     tol_px: f64,
+    grid_mm: Option<f64>,
 ) -> Option<(usize, usize)> {
     first_of_groups(blocks, drawn, views, tol_px, |members, ms| {
         (0..views.len()).find_map(|v| {
             let shift = shift_in_view(ms, v, views)?;
-            members
-                .iter()
-                .find(|&&i| overlap_after_shift(&blocks[i], shift) < EXACT_OVERLAP)
-                .map(|&i| (i, v))
+            first_off_its_place(blocks, members, shift, grid_mm).map(|i| (i, v))
         })
     })
 }
@@ -391,7 +478,7 @@ mod tests {
                 .iter()
                 .map(|v| draw_hypothesis(&blocks, &v.camera))
                 .collect();
-            imprecisely_placed(&blocks, &drawn, &views, 2.0)
+            imprecisely_placed(&blocks, &drawn, &views, 2.0, None)
         };
         for dx_mm in [0.15, 0.3] {
             let (block, shift) = imprecise(dx_mm).expect("off by more than exact allows");
@@ -422,7 +509,7 @@ mod tests {
                 .iter()
                 .map(|v| draw_hypothesis(&truth, &v.camera))
                 .collect();
-            misplaced_in_a_view(&truth, &drawn, &views, 2.0)
+            misplaced_in_a_view(&truth, &drawn, &views, 2.0, None)
         };
         let (block, view) = misplaced(0.3).expect("the se view puts the tower off");
         assert!(block < 3);
@@ -490,7 +577,7 @@ mod tests {
             views
         };
         let moved = |radius_mm: f64| {
-            let placed = placed_by_all_views(&truth, &drawn, &seen(radius_mm), 2.0);
+            let placed = placed_by_all_views(&truth, &drawn, &seen(radius_mm), 2.0, None);
             placed
                 .iter()
                 .zip(&truth)
@@ -514,7 +601,7 @@ mod tests {
                 .iter()
                 .map(|v| draw_hypothesis(blocks, &v.camera))
                 .collect();
-            placed_by_all_views(blocks, &drawn, &views, 2.0)
+            placed_by_all_views(blocks, &drawn, &views, 2.0, None)
         };
         let mut off = truth.clone();
         for b in &mut off {
@@ -539,5 +626,77 @@ mod tests {
         for (b, f) in place(&far).iter().zip(&far) {
             assert_eq!(b.center_mm, f.center_mm);
         }
+    }
+
+    /// The tower moved horizontally by `by` (x, z mm).
+    fn moved(blocks: &[Block], by: DVec2) -> Vec<Block> {
+        let mut out = blocks.to_vec();
+        for b in &mut out {
+            b.center_mm += DVec3::new(by.x, 0.0, by.y);
+        }
+        out
+    }
+
+    /// Views of the tower on its grid place (least x and z at 0, on the 7.5 mm grid) whose
+    /// drawings put it `by` (x, z mm) off, as a rounded, unevenly lit edge moves a view's
+    /// corners; with the redraw of the tower as proposed, `proposed`.
+    fn read_off(by: DVec2, proposed: &[Block]) -> (Vec<ObservedView>, Vec<LineDrawing>) {
+        let truth = tower();
+        let mut views = views_of(&truth, &CornerView::ALL);
+        for v in &mut views {
+            v.drawing = draw_hypothesis(&moved(&truth, by), &v.camera);
+        }
+        let drawn = views
+            .iter()
+            .map(|v| draw_hypothesis(proposed, &v.camera))
+            .collect();
+        (views, drawn)
+    }
+
+    /// A tower proposed 0.3 mm and 0.2 mm off its grid place, whose views put it 0.25 mm and
+    /// 0.15 mm off (overlap 0.97: not exact where the views put it), is put on its grid place
+    /// when the grid's pitch is known, and where the views put it when not; one the views put
+    /// 1.5 mm off is not moved onto the grid (beyond [`GRID_SNAP_MM`]).
+    #[test]
+    fn a_tower_near_a_grid_place_is_put_on_it_when_the_grid_is_known() {
+        let truth = tower();
+        let proposed = moved(&truth, DVec2::new(0.3, 0.2));
+        let farthest = |placed: &[Block], from: &[Block]| {
+            placed
+                .iter()
+                .zip(from)
+                .map(|(a, b)| a.center_mm.distance(b.center_mm))
+                .fold(0.0, f64::max)
+        };
+        let seen = DVec2::new(0.25, 0.15);
+        let (views, drawn) = read_off(seen, &proposed);
+        let on_grid = placed_by_all_views(&proposed, &drawn, &views, 2.0, Some(7.5));
+        assert!(farthest(&on_grid, &truth) < 1e-9, "{on_grid:?}");
+        let anywhere = placed_by_all_views(&proposed, &drawn, &views, 2.0, None);
+        assert!(farthest(&anywhere, &moved(&truth, seen)) < 1e-6);
+        let far = DVec2::new(1.5, 0.0);
+        let proposed_far = moved(&truth, far);
+        let (views, drawn) = read_off(far, &proposed_far);
+        let kept = placed_by_all_views(&proposed_far, &drawn, &views, 2.0, Some(7.5));
+        assert!(farthest(&kept, &proposed_far) < 1e-9, "{kept:?}");
+    }
+
+    /// The tower on its grid place, views putting it 0.3 mm off along x: with the grid known
+    /// it is placed (the views agree on the grid place within [`GRID_SNAP_MM`]), without it
+    /// imprecisely placed, in all views and in one; views putting it 1.2 mm off (a tolerance
+    /// of 20 px lets their corners match) leave it imprecisely placed on the grid too.
+    #[test]
+    fn on_a_known_grid_the_views_need_only_agree_on_the_grid_place() {
+        let truth = tower();
+        let check = |dx_mm: f64, grid_mm: Option<f64>| {
+            let (views, drawn) = read_off(DVec2::new(dx_mm, 0.0), &truth);
+            let all = imprecisely_placed(&truth, &drawn, &views, 20.0, grid_mm).is_some();
+            let one = misplaced_in_a_view(&truth, &drawn, &views, 20.0, grid_mm).is_some();
+            (all, one)
+        };
+        assert_eq!(check(0.3, Some(7.5)), (false, false));
+        assert_eq!(check(0.3, None), (true, true));
+        assert_eq!(check(1.2, Some(7.5)), (true, true));
+        assert_eq!(check(0.0, Some(7.5)), (false, false));
     }
 }

@@ -136,7 +136,7 @@ fn stands_against_every_view(
         .iter()
         .map(|v| draw_hypothesis(blocks, &v.camera))
         .collect();
-    misplaced_in_a_view(blocks, &drawn, views, opts.tol_px).is_none()
+    misplaced_in_a_view(blocks, &drawn, views, opts.tol_px, opts.grid_mm).is_none()
         && views_read(blocks, views, pictures, opts)
             .iter()
             .all(|(contradicts, _)| !contradicts)

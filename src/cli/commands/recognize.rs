@@ -52,6 +52,9 @@ pub struct Args {
     /// usually ends it first).
     #[arg(long, default_value_t = RecognizeOptions::default().time_budget_s)]
     pub time_budget_s: f64,
+    /// What the recognizer is told of the world.
+    #[command(flatten)]
+    pub world: WorldArgs,
     /// The recording holds the reconstruction beside the truth when the folder has a
     /// `scene.json` (a dataset's scene folder does), the views the recognizer read, and the
     /// drawings it recognized from.
@@ -85,6 +88,31 @@ pub struct SourceArgs {
     /// on `view_<v>.png`.
     #[arg(long)]
     pub from_truth: bool,
+}
+
+/// What the recognizer is told of the world the pictures show (`recognize`,
+/// `recognize-dataset`, `bench accuracy`).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct WorldArgs {
+    /// The blocks stand on a grid of this pitch, mm: every block's least x and z a multiple
+    /// of it in the cameras' world frame (7.5: the Fischer-Technik grid on which `generate`'s
+    /// supported families put every block). Each block is then put on its nearest grid place
+    /// (docs/recognizer-pictures.md "Blocks on a known grid"). More than 4, at most 1000.
+    #[arg(long, value_name = "MM")]
+    pub grid_mm: Option<f64>,
+}
+
+impl WorldArgs {
+    /// The grid's pitch, checked: more than four times `recognize::GRID_SNAP_MM` (the
+    /// nearest grid place is never in doubt) and at most 1000 mm; exit 2 naming the flag.
+    pub fn grid_mm(&self) -> anyhow::Result<Option<f64>> {
+        if let Some(mm) = self.grid_mm {
+            let ok = mm > 4.0 * blockworld::recognize::GRID_SNAP_MM && mm <= 1000.0;
+            let takes = "give the grid's pitch in mm, more than 4 and at most 1000 (7.5 for the Fischer-Technik grid)";
+            crate::cli::check_number("--grid-mm", mm, ok, takes)?;
+        }
+        Ok(self.grid_mm)
+    }
 }
 
 /// Reads one view of `dir`: its camera and its drawing (exact, or from the picture, which is
@@ -214,6 +242,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = RecognizeOptions {
         node_budget: args.node_budget,
         time_budget_s: args.time_budget_s,
+        grid_mm: args.world.grid_mm()?,
         ..RecognizeOptions::default()
     };
     let (observed, recognition) =

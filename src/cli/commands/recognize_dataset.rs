@@ -14,7 +14,7 @@
 //! Scenes run in parallel; the bytes do not depend on the number of threads. The folder is
 //! written whole or not at all.
 
-use super::recognize::{recognize_folder, SourceArgs};
+use super::recognize::{recognize_folder, SourceArgs, WorldArgs};
 use crate::cli::files::StagedFolder;
 use anyhow::Context;
 use blockworld::camera::CornerView;
@@ -42,6 +42,9 @@ pub struct Args {
     /// The views and where their drawings come from.
     #[command(flatten)]
     pub source: SourceArgs,
+    /// What the recognizer is told of the world.
+    #[command(flatten)]
+    pub world: WorldArgs,
 }
 
 /// One scene's files and result.
@@ -73,13 +76,13 @@ fn recognize_scene(
     entry: &ManifestEntry,
     views: &[CornerView],
     from_truth: bool,
+    opts: &RecognizeOptions,
 ) -> anyhow::Result<Recognized> {
     let dir = dataset.join(&entry.id);
     let truth_path = dir.join("scene.json");
     let truth =
         read_scene(&truth_path).with_context(|| format!("reading {}", truth_path.display()))?;
-    let opts = RecognizeOptions::default();
-    let (observed, recognition) = recognize_folder(&dir, views, from_truth, false, &opts)?;
+    let (observed, recognition) = recognize_folder(&dir, views, from_truth, false, opts)?;
     let recon = reconstruction(&entry.id, &recognition, 0.5);
     let result = score_suite_scene(&entry.id, &truth, Ok(&recon), &ScoreOptions::default());
     let seen: Vec<SeenView> = observed
@@ -106,6 +109,10 @@ fn recognize_scene(
 /// Runs `blockworld recognize-dataset`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let views = crate::cli::view_args::parse_corner_views(&args.source.views)?;
+    let opts = RecognizeOptions {
+        grid_mm: args.world.grid_mm()?,
+        ..RecognizeOptions::default()
+    };
     let entries = read_dataset_manifest(&args.dataset)?;
     let out = StagedFolder::new(&args.output, RECOGNITIONS_FILE, "recognitions folder")?;
     let started = std::time::Instant::now();
@@ -115,7 +122,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         entries
             .par_iter()
             .map(|e| {
-                let r = recognize_scene(&args.dataset, e, &views, args.source.from_truth)?;
+                let r = recognize_scene(&args.dataset, e, &views, args.source.from_truth, &opts)?;
                 out.write(&format!("{}.json", e.id), r.recon_json.as_bytes())?;
                 out.write(&format!("{}.views.json", e.id), r.views_json.as_bytes())?;
                 p(
@@ -131,6 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "dataset": args.dataset.display().to_string(),
         "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
         "from_truth": args.source.from_truth,
+        "grid_mm": opts.grid_mm,
         "families": families,
         "scenes": results,
     });

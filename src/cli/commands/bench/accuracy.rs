@@ -69,10 +69,14 @@ pub struct Args {
     /// `look.json` seed; docs/yardstick.md "The varied look, draw for draw").
     #[arg(long, value_name = "DIR", conflicts_with_all = ["recognizer", "families", "make_reference", "from_truth", "golden"])]
     pub pictures: Option<PathBuf>,
+    /// What the recognizer is told of the world.
+    #[command(flatten)]
+    pub world: crate::cli::commands::recognize::WorldArgs,
 }
 
 /// Runs `blockworld bench accuracy`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    args.world.grid_mm()?;
     if let Some(dir) = &args.pictures {
         return super::pictures::run(&args, dir);
     }
@@ -109,6 +113,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
         "recognizer": args.recognizer.as_ref().map_or("blockworld".into(), |d| d.display().to_string()),
         "from_truth": args.from_truth,
+        "grid_mm": args.world.grid_mm,
         "views": views.iter().map(|v| v.name()).collect::<Vec<_>>(),
         "noise_sigma": render.noise_sigma,
         "projection": args.view.projection,
@@ -221,6 +226,7 @@ fn run_recognizer(
     let opts = PipelineOptions {
         render,
         views,
+        recognize: recognize_options(args),
         source: if args.from_truth {
             DrawingSource::Truth
         } else {
@@ -257,6 +263,14 @@ fn run_recognizer(
         unseen,
         undecided,
     ))
+}
+
+/// The pipeline's recognizer options, told what `args` says of the world (`--grid-mm`).
+pub(super) fn recognize_options(args: &Args) -> blockworld::recognize::RecognizeOptions {
+    blockworld::recognize::RecognizeOptions {
+        grid_mm: args.world.grid_mm,
+        ..PipelineOptions::default().recognize
+    }
 }
 
 /// The scenes `generate --family F --count N --seed S` would write, drawn and settled in memory

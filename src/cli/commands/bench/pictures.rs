@@ -58,6 +58,7 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
         }
     }
     let name = dir.display().to_string();
+    let recognize = super::accuracy::recognize_options(args);
     let pictured = crate::cli::progress::with_progress(
         "bench accuracy --pictures",
         "scenes",
@@ -65,7 +66,7 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
         |p| {
             let mut out = Vec::new();
             for (k, s) in scenes.iter().enumerate() {
-                out.push(recognize_pictures(s, &views));
+                out.push(recognize_pictures(s, &views, &recognize));
                 p(k as u64 + 1, scenes.len() as u64);
             }
             out
@@ -94,6 +95,7 @@ pub fn run(args: &Args, dir: &Path) -> anyhow::Result<()> {
             render: RenderOptions { look, ..render },
             views: views.clone(),
             source: DrawingSource::Pictures(VisionOptions::default()),
+            recognize: super::accuracy::recognize_options(args),
             ..PipelineOptions::default()
         };
         let runs = if varied {
@@ -255,9 +257,13 @@ fn check_cameras(
 /// (the fainter readings and the standing check included: `recognize::recognize_folder`) and
 /// scores it; an unreadable file or a vision or recognizer error is a `failed` result with the
 /// reason.
-fn recognize_pictures(s: &PictureScene, views: &[CornerView]) -> SceneResult {
+fn recognize_pictures(
+    s: &PictureScene,
+    views: &[CornerView],
+    recognize: &blockworld::recognize::RecognizeOptions,
+) -> SceneResult {
     let opts = PipelineOptions::default();
-    let answer = recognize_folder(&s.folder, views, false, false, &opts.recognize)
+    let answer = recognize_folder(&s.folder, views, false, false, recognize)
         .map(|(_, r)| reconstruction(&s.truth.name, &r, opts.layer_tol_mm))
         .map_err(|e| NoReconstruction(format!("{e:#}")));
     score_suite_scene(
@@ -399,7 +405,7 @@ mod tests {
             let opts = PipelineOptions::default().recognize;
             let first = recognize_in_pictures(&observed, &pictures, &opts).unwrap();
             assert_eq!(first.status, ReconStatus::Unsupported, "ink {ink}");
-            let r = recognize_pictures(&scenes[0], &CornerView::ALL);
+            let r = recognize_pictures(&scenes[0], &CornerView::ALL, &opts);
             assert_eq!(r.verdict, verdict, "ink {ink}: {r:?}");
             assert!(!r.confidently_wrong, "ink {ink}");
         }
