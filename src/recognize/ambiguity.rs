@@ -15,8 +15,7 @@
 use super::catalog_match::bounds_mm;
 use super::compare::{catalog_merge, catalog_splits};
 use super::edge_profile::{edge_profile, ViewPicture};
-use super::picture::pictures_mismatch;
-use super::shadow::without_shadow_lines;
+use super::shadow::mismatches_under_known_lights;
 use super::verify::{compare_drawings, draw_hypothesis, mismatched_features};
 use super::{Camera, ObservedView};
 use crate::drawing::{LineDrawing, LineKind};
@@ -381,12 +380,9 @@ fn redraw_explains_in_pictures(
         .iter()
         .map(|v| draw_hypothesis(alt, &v.camera))
         .collect();
-    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
-    let mut mismatches = pictures_mismatch(&alt_drawn, &observed, pictures, tol_px);
-    for (m, v) in mismatches.iter_mut().zip(views) {
-        without_shadow_lines(m, v, alt, tol_px);
-    }
-    let explained = mismatches.iter().all(|m| m.counts().is_explained());
+    let explained = mismatches_under_known_lights(alt, &alt_drawn, views, pictures, tol_px)
+        .iter()
+        .all(|m| m.counts().is_explained());
     explained
         && drawn
             .iter()

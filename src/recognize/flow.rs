@@ -12,17 +12,16 @@ use super::constraints::{curved_chain_lines, floating_blocks, lines_off_the_axes
 use super::direct::{direct_hypothesis_within, Silhouettes};
 use super::edge_profile::ViewPicture;
 use super::parallelogram::{Face, ParallelogramSearch};
-use super::picture::{pictures_mismatch, without_weak_lines};
+use super::picture::without_weak_lines;
 use super::placement::{
     imprecisely_placed, misplaced_in_a_view, placed_by_all_views, unmeasured_in_views,
 };
 use super::repair::{cracks_resolved, repaired_in_pictures};
 use super::select::select_vertices;
-use super::shadow::without_shadow_lines;
+use super::shadow::mismatches_under_known_lights;
 use super::trapezoid::{sloped_faces, sloped_lines, trapezoid_proposals};
 use super::verify::{blocks_drawn_in_excess, ViewCheck, ViewMismatch};
 use super::SAME_PLACE_TOL_MM;
-use crate::drawing::LineDrawing;
 use crate::scene::{Block, ViewEvidence};
 
 /// The view's drawing checked ([`LineDrawing::check`], the one validation of a drawing).
@@ -231,9 +230,9 @@ pub(super) fn find_hypothesis(
 }
 
 /// Each view's step-6 comparison of `h`: with the views' pictures, by the picture-aware check
-/// ([`pictures_mismatch`]) unless the drawings alone explain every view, the lines along the
+/// ([`super::picture::pictures_mismatch`]) unless the drawings alone explain every view, the lines along the
 /// edges of the shadows `h` casts under a view's known lights left out
-/// ([`without_shadow_lines`]).
+/// ([`mismatches_under_known_lights`]).
 fn checks_in_pictures(
     h: &Hypothesis,
     views: &[ObservedView],
@@ -243,12 +242,10 @@ fn checks_in_pictures(
     if pictures.len() != views.len() || h.checks.iter().all(ViewCheck::is_explained) {
         return h.checks.clone();
     }
-    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
-    let mut mismatches = pictures_mismatch(&h.drawn, &observed, pictures, tol_px);
-    for (m, v) in mismatches.iter_mut().zip(views) {
-        without_shadow_lines(m, v, &h.blocks, tol_px);
-    }
-    mismatches.iter().map(ViewMismatch::counts).collect()
+    mismatches_under_known_lights(&h.blocks, &h.drawn, views, pictures, tol_px)
+        .iter()
+        .map(ViewMismatch::counts)
+        .collect()
 }
 
 /// `h` with its groups of touching blocks placed by every view at once

@@ -14,8 +14,11 @@
 
 use super::answer::ObservedView;
 use super::catalog_match::bounds_mm;
+use super::edge_profile::ViewPicture;
+use super::picture::pictures_mismatch;
 use super::verify::ViewMismatch;
 use crate::camera::Projector;
+use crate::drawing::LineDrawing;
 use crate::geom::{clip_segment_to_box, convex_hull, distance_to_segment_px, DVec2, DVec3};
 use crate::scene::Block;
 
@@ -255,6 +258,25 @@ pub(super) fn without_shadow_lines(
             .collect();
         !meeting.iter().any(|l| shadow.contains(l)) || meeting.iter().any(|l| left.contains(l))
     });
+}
+
+/// Each view's picture-aware comparison of `blocks`, drawn as `drawn`, with the observed
+/// drawing ([`pictures_mismatch`]), the lines along the edges of the shadows `blocks` cast
+/// under the view's known lights left out ([`without_shadow_lines`]): step 6's check of an
+/// answer and of its alternatives, one home so that both are held to the same check.
+pub(super) fn mismatches_under_known_lights(
+    blocks: &[Block],
+    drawn: &[LineDrawing],
+    views: &[ObservedView],
+    pictures: &[ViewPicture],
+    tol_px: f64,
+) -> Vec<ViewMismatch> {
+    let observed: Vec<&LineDrawing> = views.iter().map(|v| &v.drawing).collect();
+    let mut mismatches = pictures_mismatch(drawn, &observed, pictures, tol_px);
+    for (m, v) in mismatches.iter_mut().zip(views) {
+        without_shadow_lines(m, v, blocks, tol_px);
+    }
+    mismatches
 }
 
 #[cfg(test)]
